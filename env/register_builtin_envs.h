@@ -1,0 +1,6 @@
+// Registers every environment of env/ with the EnvRegistry (idempotent).
+#pragma once
+
+namespace rlt {
+void register_builtin_envs();
+}  // namespace rlt

@@ -1,0 +1,51 @@
+// The environment interface: one instance runs one episode at a time, for any number of behaviors
+// and agents. Many instances are batched by VectorEnv.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+#include "rl/env_api/spec.h"
+#include "rl/env_api/step_buffers.h"
+
+namespace rlt {
+
+// Scalar results of one finished episode, e.g. {"success": 1} or {"tag_rate": 0}.
+using EpisodeMetrics = std::map<std::string, float>;
+
+class Env {
+ public:
+  virtual ~Env() = default;
+
+  virtual const EnvSpec& spec() const = 0;
+
+  // Reseeds the instance's random engine. The same seed and the same actions give the same
+  // trajectory, bit for bit.
+  virtual void seed(uint64_t seed) = 0;
+
+  // Parameters take effect at the next reset. Names must be keys of spec().default_parameters.
+  void set_parameters(const Parameters& p) {
+    for (const auto& [k, v] : p) parameters_[k] = v;
+  }
+  float parameter(const std::string& name) const {
+    auto it = parameters_.find(name);
+    return it != parameters_.end() ? it->second : spec().default_parameters.at(name);
+  }
+
+  // Starts an episode: every slot becomes kFirst (an agent) or kAbsent. Rewards are 0.
+  virtual void reset(StepView& out) = 0;
+
+  // Applies the actions of every kFirst/kMid slot and writes the next step of those slots:
+  // kMid, or kLast once for an agent that leaves or when the episode ends. kLast and kAbsent slots
+  // become kAbsent. The vector env has already zeroed rewards and `terminated`.
+  virtual void step(StepView& io) = 0;
+
+  // Metrics of the episode that just ended (called once all agents are kLast or kAbsent).
+  virtual EpisodeMetrics episode_metrics() const { return {}; }
+
+ private:
+  Parameters parameters_;
+};
+
+}  // namespace rlt

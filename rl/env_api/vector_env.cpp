@@ -1,0 +1,90 @@
+#include "rl/env_api/vector_env.h"
+
+#include <stdexcept>
+
+#include "rl/env_api/env_registry.h"
+
+namespace rlt {
+
+VectorEnv::VectorEnv(const std::string& env_id, int num_envs, uint64_t base_seed,
+                     const Parameters& params, int threads)
+    : pool_(std::min(threads, num_envs)) {
+  if (num_envs < 1) throw std::invalid_argument("num_envs must be at least 1");
+  for (int i = 0; i < num_envs; ++i) envs_.push_back(EnvRegistry::instance().make(env_id, params));
+  for (const auto& b : spec().behaviors) buffers_.emplace_back(b, num_envs);
+  for (int i = 0; i < num_envs; ++i) {
+    StepView view;
+    for (auto& b : buffers_) view.emplace_back(&b, i);
+    views_.push_back(std::move(view));
+    envs_[i]->seed(base_seed + i);
+  }
+  needs_reset_.assign(num_envs, 1);
+  just_finished_.assign(num_envs, 0);
+  last_metrics_.resize(num_envs);
+}
+
+void VectorEnv::set_parameters(const Parameters& params) {
+  for (int i = 0; i < num_envs(); ++i) set_parameters(i, params);
+}
+
+void VectorEnv::set_parameters(int env_index, const Parameters& params) {
+  const auto& known = spec().default_parameters;
+  for (const auto& [k, v] : params)
+    if (!known.count(k))
+      throw std::invalid_argument("environment '" + spec().name + "' has no parameter '" + k + "'");
+  envs_[env_index]->set_parameters(params);
+}
+
+bool VectorEnv::episode_over(int i) {
+  for (auto& v : views_[i])
+    for (int s = 0; s < v.slots(); ++s)
+      if (needs_action(v.step_type(s))) return false;
+  return true;
+}
+
+void VectorEnv::reset() {
+  pool_.parallel_for(num_envs(), [this](int i) {
+    for (auto& v : views_[i]) {
+      v.clear_step();
+      v.clear_agents();
+    }
+    envs_[i]->reset(views_[i]);
+    needs_reset_[i] = 0;
+  });
+}
+
+void VectorEnv::reseed_and_reset(uint64_t seed) {
+  for (int i = 0; i < num_envs(); ++i) envs_[i]->seed(seed + i);
+  reset();
+}
+
+void VectorEnv::step() {
+  pool_.parallel_for(num_envs(), [this](int i) {
+    for (auto& v : views_[i]) v.clear_step();
+    if (needs_reset_[i]) {
+      for (auto& v : views_[i]) v.clear_agents();
+      envs_[i]->reset(views_[i]);
+      needs_reset_[i] = 0;
+      return;
+    }
+    envs_[i]->step(views_[i]);
+    if (episode_over(i)) {
+      needs_reset_[i] = 1;
+      just_finished_[i] = 1;
+      last_metrics_[i] = envs_[i]->episode_metrics();
+    }
+  });
+  for (int i = 0; i < num_envs(); ++i) {
+    if (!just_finished_[i]) continue;
+    just_finished_[i] = 0;
+    finished_.push_back({i, std::move(last_metrics_[i])});
+  }
+}
+
+std::vector<FinishedEpisode> VectorEnv::take_finished_episodes() {
+  std::vector<FinishedEpisode> out;
+  out.swap(finished_);
+  return out;
+}
+
+}  // namespace rlt

@@ -1,0 +1,63 @@
+// N instances of one environment stepped together on a thread pool, with automatic reset.
+//
+// Env i is seeded with base_seed + i (EnvPool's convention). An instance whose episode has ended
+// (every slot kLast or kAbsent after a step) is reset by the next call to step() instead of being
+// stepped: its rows then hold kFirst, and the actions written for them are ignored. Final
+// observations therefore stay in the buffers for one step, where trainers read them (bootstrap).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rl/env_api/env.h"
+#include "rl/env_api/thread_pool.h"
+
+namespace rlt {
+
+struct FinishedEpisode {
+  int env_index = 0;
+  EpisodeMetrics metrics;
+};
+
+class VectorEnv {
+ public:
+  // Builds `num_envs` instances of registered env `env_id` with construction parameters `params`.
+  VectorEnv(const std::string& env_id, int num_envs, uint64_t base_seed, const Parameters& params = {},
+            int threads = 1);
+
+  const EnvSpec& spec() const { return envs_.front()->spec(); }
+  int num_envs() const { return static_cast<int>(envs_.size()); }
+  int num_behaviors() const { return static_cast<int>(buffers_.size()); }
+  BehaviorBuffers& buffers(int behavior) { return buffers_[behavior]; }
+  const BehaviorBuffers& buffers(int behavior) const { return buffers_[behavior]; }
+
+  // Parameters for every instance (or one), applied at its next reset.
+  void set_parameters(const Parameters& params);
+  void set_parameters(int env_index, const Parameters& params);
+
+  // Seeds env i with base_seed + i and starts an episode in every instance.
+  void reset();
+  // Seeds every instance again (env i: seed + i) and starts new episodes: used to restart from a
+  // deterministic point, e.g. at a checkpoint.
+  void reseed_and_reset(uint64_t seed);
+  // Steps every instance with the actions in the buffers (or resets those whose episode ended).
+  void step();
+
+  // Episodes that ended since the last call, in env order.
+  std::vector<FinishedEpisode> take_finished_episodes();
+
+ private:
+  bool episode_over(int env_index);
+
+  std::vector<std::unique_ptr<Env>> envs_;
+  std::vector<BehaviorBuffers> buffers_;     // one per behavior
+  std::vector<StepView> views_;              // one per env
+  std::vector<uint8_t> needs_reset_;         // [num_envs]
+  std::vector<uint8_t> just_finished_;       // [num_envs]
+  std::vector<EpisodeMetrics> last_metrics_; // [num_envs]
+  std::vector<FinishedEpisode> finished_;
+  ThreadPool pool_;
+};
+
+}  // namespace rlt
