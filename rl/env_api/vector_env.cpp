@@ -1,5 +1,6 @@
 #include "rl/env_api/vector_env.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "rl/env_api/env_registry.h"
@@ -8,7 +9,7 @@ namespace rlt {
 
 VectorEnv::VectorEnv(const std::string& env_id, int num_envs, uint64_t base_seed,
                      const Parameters& params, int threads)
-    : pool_(std::min(threads, num_envs)) {
+    : base_seed_(base_seed), pool_(std::min(threads, num_envs)) {
   if (num_envs < 1) throw std::invalid_argument("num_envs must be at least 1");
   for (int i = 0; i < num_envs; ++i) envs_.push_back(EnvRegistry::instance().make(env_id, params));
   for (const auto& b : spec().behaviors) buffers_.emplace_back(b, num_envs);
@@ -43,6 +44,16 @@ bool VectorEnv::episode_over(int i) {
 }
 
 void VectorEnv::reset() {
+  for (int i = 0; i < num_envs(); ++i) envs_[i]->seed(base_seed_ + i);
+  start_episodes();
+}
+
+void VectorEnv::reseed_and_reset(uint64_t seed) {
+  for (int i = 0; i < num_envs(); ++i) envs_[i]->seed(seed + i);
+  start_episodes();
+}
+
+void VectorEnv::start_episodes() {
   pool_.parallel_for(num_envs(), [this](int i) {
     for (auto& v : views_[i]) {
       v.clear_step();
@@ -51,11 +62,6 @@ void VectorEnv::reset() {
     envs_[i]->reset(views_[i]);
     needs_reset_[i] = 0;
   });
-}
-
-void VectorEnv::reseed_and_reset(uint64_t seed) {
-  for (int i = 0; i < num_envs(); ++i) envs_[i]->seed(seed + i);
-  reset();
 }
 
 void VectorEnv::step() {

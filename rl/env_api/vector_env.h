@@ -23,8 +23,8 @@ struct FinishedEpisode {
 class VectorEnv {
  public:
   // Builds `num_envs` instances of registered env `env_id` with construction parameters `params`.
-  VectorEnv(const std::string& env_id, int num_envs, uint64_t base_seed, const Parameters& params = {},
-            int threads = 1);
+  VectorEnv(const std::string& env_id, int num_envs, uint64_t base_seed,
+            const Parameters& params = {}, int threads = 1);
 
   const EnvSpec& spec() const { return envs_.front()->spec(); }
   int num_envs() const { return static_cast<int>(envs_.size()); }
@@ -49,13 +49,15 @@ class VectorEnv {
 
  private:
   bool episode_over(int env_index);
+  void start_episodes();  // resets every instance without reseeding
 
+  uint64_t base_seed_ = 0;  // seed of env 0 at reset()
   std::vector<std::unique_ptr<Env>> envs_;
-  std::vector<BehaviorBuffers> buffers_;     // one per behavior
-  std::vector<StepView> views_;              // one per env
-  std::vector<uint8_t> needs_reset_;         // [num_envs]
-  std::vector<uint8_t> just_finished_;       // [num_envs]
-  std::vector<EpisodeMetrics> last_metrics_; // [num_envs]
+  std::vector<BehaviorBuffers> buffers_;      // one per behavior
+  std::vector<StepView> views_;               // one per env
+  std::vector<uint8_t> needs_reset_;          // [num_envs]
+  std::vector<uint8_t> just_finished_;        // [num_envs]
+  std::vector<EpisodeMetrics> last_metrics_;  // [num_envs]
   std::vector<FinishedEpisode> finished_;
   ThreadPool pool_;
 };

@@ -1,0 +1,36 @@
+#include "env/register_builtin_envs.h"
+
+#include <memory>
+#include <mutex>
+
+#include "env/classic/cartpole.h"
+#include "env/classic/pendulum.h"
+#include "env/toy/hybrid_reach.h"
+#include "env/toy/masked_choice.h"
+#include "rl/env_api/env_registry.h"
+
+namespace rlt {
+
+namespace {
+template <typename E>
+void add_env(const char* name) {
+  auto& registry = EnvRegistry::instance();
+  if (registry.contains(name)) return;
+  registry.add(name,
+               [](const Parameters&) -> std::unique_ptr<Env> { return std::make_unique<E>(); });
+}
+}  // namespace
+
+void register_builtin_envs() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    // classic control
+    add_env<CartPole>("CartPole");
+    add_env<Pendulum>("Pendulum");
+    // toy envs for tests
+    add_env<HybridReach>("HybridReach");
+    add_env<MaskedChoice>("MaskedChoice");
+  });
+}
+
+}  // namespace rlt
