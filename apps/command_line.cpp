@@ -1,0 +1,63 @@
+#include "apps/command_line.h"
+
+namespace rlt {
+
+CommandLine::CommandLine(const std::vector<std::string>& args, const std::set<std::string>& switches,
+                         const std::set<std::string>& options) {
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a.rfind("--", 0) != 0) {
+      positional_.push_back(a);
+      continue;
+    }
+    std::string flag = a, val;
+    const auto eq = a.find('=');
+    if (eq != std::string::npos) {
+      flag = a.substr(0, eq);
+      val = a.substr(eq + 1);
+    }
+    if (switches.count(flag)) {
+      if (eq != std::string::npos) throw UsageError(flag + " takes no value");
+      flags_.emplace(flag, "");
+    } else if (options.count(flag)) {
+      if (eq == std::string::npos) {
+        if (i + 1 >= args.size()) throw UsageError(flag + " needs a value");
+        val = args[++i];
+      }
+      flags_.emplace(flag, val);
+    } else {
+      throw UsageError("unknown option " + flag);
+    }
+  }
+}
+
+bool CommandLine::has(const std::string& flag) const { return flags_.count(flag) > 0; }
+
+std::string CommandLine::value(const std::string& flag, const std::string& fallback) const {
+  auto it = flags_.find(flag);
+  return it == flags_.end() ? fallback : it->second;
+}
+
+std::vector<std::string> CommandLine::values(const std::string& flag) const {
+  std::vector<std::string> out;
+  for (auto [it, end] = flags_.equal_range(flag); it != end; ++it) out.push_back(it->second);
+  return out;
+}
+
+long long CommandLine::integer(const std::string& flag, long long fallback, long long min_value) const {
+  if (!has(flag)) return fallback;
+  const std::string v = value(flag);
+  size_t used = 0;
+  long long n = 0;
+  try {
+    n = std::stoll(v, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (used != v.size() || v.empty()) throw UsageError(flag + ": expected an integer, got '" + v + "'");
+  if (n < min_value)
+    throw UsageError(flag + ": must be at least " + std::to_string(min_value) + ", got " + v);
+  return n;
+}
+
+}  // namespace rlt

@@ -1,0 +1,34 @@
+// A small command-line parser for `rlt`: positional arguments and --flags with or without values.
+#pragma once
+
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rlt {
+
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class CommandLine {
+ public:
+  // `switches`: flags without a value; `options`: flags that take one value (may repeat)
+  CommandLine(const std::vector<std::string>& args, const std::set<std::string>& switches,
+              const std::set<std::string>& options);
+
+  const std::vector<std::string>& positional() const { return positional_; }
+  bool has(const std::string& flag) const;
+  std::string value(const std::string& flag, const std::string& fallback = "") const;
+  std::vector<std::string> values(const std::string& flag) const;
+  long long integer(const std::string& flag, long long fallback, long long min_value) const;
+
+ private:
+  std::vector<std::string> positional_;
+  std::multimap<std::string, std::string> flags_;
+};
+
+}  // namespace rlt

@@ -1,0 +1,70 @@
+// rlt: train, evaluate, export and benchmark reinforcement-learning runs.
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "apps/command_line.h"
+#include "apps/commands.h"
+#include "env/register_builtin_envs.h"
+
+namespace {
+
+const char* kHelp = R"(rlt - reinforcement learning toolkit (PPO on LibTorch, C++ environments)
+
+Usage: rlt COMMAND [ARGS...]
+
+Commands:
+  train CONFIG     train the behaviors of a YAML run configuration (ML-Agents schema)
+  eval RUN_DIR     play episodes with a trained run and report returns and episode metrics
+  export RUN_DIR   write each behavior's TorchScript policy to RUN_DIR/<Behavior>.pt
+  envs             list the registered environments and their behavior specs
+  bench            measure training or environment throughput
+
+Run 'rlt COMMAND --help' for the options of a command.
+
+Quick start:
+  rlt train configs/cartpole_ppo.yaml --run-id cartpole
+  rlt eval results/cartpole --episodes 20 --json
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+    std::cout << kHelp;
+    return args.empty() ? 2 : 0;
+  }
+  rlt::register_builtin_envs();
+  const std::string command = args[0];
+  args.erase(args.begin());
+  struct Entry {
+    const char* name;
+    int (*run)(const std::vector<std::string>&);
+    const char* help;
+  };
+  const Entry entries[] = {{"train", rlt::run_train, rlt::kTrainHelp},
+                           {"eval", rlt::run_eval, rlt::kEvalHelp},
+                           {"export", rlt::run_export, rlt::kExportHelp},
+                           {"envs", rlt::run_envs, rlt::kEnvsHelp},
+                           {"bench", rlt::run_bench, rlt::kBenchHelp}};
+  for (const auto& e : entries) {
+    if (command != e.name) continue;
+    for (const auto& a : args)
+      if (a == "--help" || a == "-h") {
+        std::cout << e.help;
+        return 0;
+      }
+    try {
+      return e.run(args);
+    } catch (const rlt::UsageError& err) {
+      std::cerr << "rlt " << command << ": " << err.what() << "\n\n" << e.help;
+      return 2;
+    } catch (const std::exception& err) {
+      std::cerr << "rlt " << command << ": error: " << err.what() << "\n";
+      return 1;
+    }
+  }
+  std::cerr << "rlt: unknown command '" << command << "'\n\n" << kHelp;
+  return 2;
+}

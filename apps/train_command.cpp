@@ -1,0 +1,59 @@
+#include <iostream>
+
+#include "apps/command_line.h"
+#include "apps/commands.h"
+#include "rl/config/config_parser.h"
+#include "rl/trainer/training_run.h"
+
+namespace rlt {
+
+const char* const kTrainHelp = R"(Usage: rlt train CONFIG [options]
+
+Trains every behavior of the environment named by CONFIG's env_settings.env_id with the trainer of
+its behaviors: entry. Writes results/<run-id>/: configuration.yaml, checkpoints/, metrics/,
+training_status.json and <Behavior>.pt (TorchScript policies) at the end.
+
+Options:
+  --run-id ID            run folder name (default: checkpoint_settings.run_id)
+  --results-dir DIR      parent folder of runs (default: results)
+  --resume               continue the run from its newest checkpoint
+  --force                overwrite an existing run folder
+  --initialize-from ID   start from the weights of run ID's newest checkpoint
+  --num-envs N           environment instances (default: env_settings.num_envs)
+  --seed S               base seed; instance i uses S + i (default: env_settings.seed, else 0)
+  --max-steps N          steps per behavior, overriding max_steps
+  --threads T            threads for environments and LibTorch (default: all cores)
+An existing run id without --resume or --force is an error that touches nothing.
+)";
+
+int run_train(const std::vector<std::string>& args) {
+  CommandLine cl(args, {"--resume", "--force"},
+                 {"--run-id", "--results-dir", "--initialize-from", "--num-envs", "--seed",
+                  "--max-steps", "--threads"});
+  if (cl.positional().size() != 1) throw UsageError("expected one CONFIG file");
+  TrainOptions opt;
+  opt.run_id = cl.value("--run-id");
+  opt.results_dir = cl.value("--results-dir");
+  opt.resume = cl.has("--resume");
+  opt.force = cl.has("--force");
+  if (opt.resume && opt.force) throw UsageError("--resume and --force exclude each other");
+  opt.initialize_from = cl.value("--initialize-from");
+  opt.num_envs = int(cl.integer("--num-envs", 0, 1));
+  opt.seed = cl.integer("--seed", -1, 0);
+  opt.max_steps = cl.integer("--max-steps", 0, 1);
+  opt.threads = int(cl.integer("--threads", 0, 1));
+  RunConfig config = load_run_config(cl.positional()[0]);
+  TrainingRun run(std::move(config), opt);
+  std::cout << "Training " << run.config().env_settings.env_id << " into "
+            << run.folder()->path() << " (" << run.config().env_settings.num_envs
+            << " environments)" << std::endl;
+  auto result = run.train();
+  std::cout << "Done in " << result.seconds << " s: " << result.agent_steps << " agent steps ("
+            << int64_t(result.agent_steps / std::max(1e-9, result.seconds)) << "/s). Policies: ";
+  for (int b = 0; b < run.num_trainers(); ++b)
+    std::cout << (b ? ", " : "") << run.folder()->policy_path(run.trainer(b).behavior());
+  std::cout << std::endl;
+  return 0;
+}
+
+}  // namespace rlt

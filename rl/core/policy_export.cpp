@@ -1,0 +1,105 @@
+#include "rl/core/policy_export.h"
+
+#include <torch/script.h>
+
+#include <cstdio>
+#include <sstream>
+
+#include "rl/core/json.h"
+#include "rl/core/policy_network.h"
+#include "rl/core/running_normalizer.h"
+
+namespace rlt {
+
+std::string behavior_spec_json(const BehaviorSpec& spec) {
+  std::ostringstream os;
+  os << "{\"name\":" << json_string(spec.name) << ",\"observations\":[";
+  for (size_t i = 0; i < spec.observations.size(); ++i) {
+    const auto& o = spec.observations[i];
+    os << (i ? "," : "") << "{\"name\":" << json_string(o.name) << ",\"shape\":[";
+    for (size_t d = 0; d < o.shape.size(); ++d) os << (d ? "," : "") << o.shape[d];
+    os << "],\"kind\":\"" << (o.kind == ObservationKind::kGrid ? "grid" : "vector") << "\"}";
+  }
+  os << "],\"action\":{\"continuous_size\":" << spec.action.continuous_size
+     << ",\"discrete_branches\":[";
+  for (size_t i = 0; i < spec.action.discrete_branches.size(); ++i)
+    os << (i ? "," : "") << spec.action.discrete_branches[i];
+  os << "]},\"agent_slots\":" << spec.agent_slots << "}";
+  return os.str();
+}
+
+namespace {
+std::string activation_code(Activation a, const std::string& x) {
+  switch (a) {
+    case Activation::kTanh:
+      return "torch.tanh(" + x + ")";
+    case Activation::kRelu:
+      return "torch.relu(" + x + ")";
+    case Activation::kSwish:
+      break;
+  }
+  return "torch.nn.functional.silu(" + x + ")";
+}
+}  // namespace
+
+void export_policy(const PolicyNetworkImpl& net, const RunningNormalizer* normalizer,
+                   const BehaviorSpec& spec, const std::string& path) {
+  torch::NoGradGuard no_grad;
+  const auto& shape = net.shape();
+  torch::jit::Module m("rlt_policy_" + spec.name);
+  auto add = [&](const std::string& name, const torch::Tensor& t) {
+    m.register_buffer(name, t.detach().clone());
+  };
+  std::ostringstream src;
+  src << "def forward(self, observations: List[Tensor], action_mask: Optional[Tensor] = None)"
+         " -> Tuple[Tensor, Tensor]:\n";
+  src << "    flat = [o.flatten(1) for o in observations]\n";
+  src << "    x = torch.cat(flat, 1)\n";
+  src << "    batch = x.size(0)\n";
+  if (normalizer) {
+    add("obs_mean", torch::tensor(normalizer->mean_float()));
+    add("obs_inv_std", torch::tensor(normalizer->inverse_std()));
+    src << "    x = torch.clamp((x - self.obs_mean) * self.obs_inv_std, -5.0, 5.0)\n";
+  }
+  for (size_t l = 0; l < net.actor_body.size(); ++l) {
+    add("w" + std::to_string(l), net.actor_body[l].weight);
+    add("b" + std::to_string(l), net.actor_body[l].bias);
+    src << "    x = "
+        << activation_code(shape.activation, "torch.addmm(self.b" + std::to_string(l) + ", x, self.w" +
+                                                 std::to_string(l) + ")")
+        << "\n";
+  }
+  if (spec.action.continuous_size > 0) {
+    add("mean_w", net.mean_head.weight);
+    add("mean_b", net.mean_head.bias);
+    src << "    continuous = torch.clamp(torch.addmm(self.mean_b, x, self.mean_w), -3.0, 3.0) / 3.0\n";
+  } else {
+    src << "    continuous = torch.zeros([batch, 0])\n";
+  }
+  if (spec.action.num_branches() > 0) {
+    add("logits_w", net.logits_head.weight);
+    add("logits_b", net.logits_head.bias);
+    src << "    logits = torch.addmm(self.logits_b, x, self.logits_w)\n";
+    src << "    if action_mask is not None:\n";
+    src << "        logits = logits + (action_mask.float() - 1.0) * 100000000.0\n";
+    src << "    choices = []\n";
+    int offset = 0;
+    for (int n : spec.action.discrete_branches) {
+      src << "    choices.append(torch.argmax(logits.narrow(1, " << offset << ", " << n << "), 1))\n";
+      offset += n;
+    }
+    src << "    discrete = torch.stack(choices, 1)\n";
+  } else {
+    src << "    discrete = torch.zeros([batch, 0], dtype=torch.int64)\n";
+  }
+  src << "    return continuous, discrete\n";
+  m.register_attribute("spec_json", c10::StringType::get(), behavior_spec_json(spec));
+  m.register_attribute("format_version", c10::IntType::get(), int64_t(1));
+  m.define(src.str());
+  const std::string tmp = path + ".tmp";
+  m.save(tmp);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw std::runtime_error("cannot move " + tmp + " to " + path);
+}
+
+}  // namespace rlt

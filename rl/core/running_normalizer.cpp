@@ -1,0 +1,96 @@
+#include "rl/core/running_normalizer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+namespace rlt {
+
+RunningNormalizer::RunningNormalizer(int size) : mean_(size, 0.0), var_(size, 1.0) {}
+
+void RunningNormalizer::update(const float* data, int64_t rows) {
+  if (rows <= 0) return;
+  const int n = size();
+  // batch mean and variance
+  std::vector<double> bmean(n, 0.0), bvar(n, 0.0);
+  for (int64_t r = 0; r < rows; ++r)
+    for (int i = 0; i < n; ++i) bmean[i] += data[r * n + i];
+  for (int i = 0; i < n; ++i) bmean[i] /= double(rows);
+  for (int64_t r = 0; r < rows; ++r)
+    for (int i = 0; i < n; ++i) {
+      double d = data[r * n + i] - bmean[i];
+      bvar[i] += d * d;
+    }
+  for (int i = 0; i < n; ++i) bvar[i] /= double(rows);
+  // merge with the running statistics
+  const double total = count_ + double(rows);
+  for (int i = 0; i < n; ++i) {
+    if (count_ == 0) {
+      mean_[i] = bmean[i];
+      var_[i] = bvar[i];
+      continue;
+    }
+    const double delta = bmean[i] - mean_[i];
+    const double m2 = var_[i] * count_ + bvar[i] * double(rows) + delta * delta * count_ * rows / total;
+    mean_[i] += delta * rows / total;
+    var_[i] = m2 / total;
+  }
+  count_ = total;
+}
+
+void RunningNormalizer::normalize(float* data, int64_t rows) const {
+  const int n = size();
+  auto inv = inverse_std();
+  auto mean = mean_float();
+  for (int64_t r = 0; r < rows; ++r)
+    for (int i = 0; i < n; ++i) {
+      float v = (data[r * n + i] - mean[i]) * inv[i];
+      data[r * n + i] = std::clamp(v, -kClip, kClip);
+    }
+}
+
+std::vector<float> RunningNormalizer::inverse_std() const {
+  std::vector<float> out(size());
+  for (int i = 0; i < size(); ++i) out[i] = float(1.0 / std::sqrt(var_[i] + kEps));
+  return out;
+}
+
+std::vector<float> RunningNormalizer::mean_float() const {
+  return std::vector<float>(mean_.begin(), mean_.end());
+}
+
+std::string RunningNormalizer::serialize() const {
+  std::ostringstream os;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%a", count_);
+  os << size() << ' ' << buf;
+  for (int i = 0; i < size(); ++i) {
+    std::snprintf(buf, sizeof buf, " %a", mean_[i]);
+    os << buf;
+    std::snprintf(buf, sizeof buf, " %a", var_[i]);
+    os << buf;
+  }
+  return os.str();
+}
+
+RunningNormalizer RunningNormalizer::deserialize(const std::string& text) {
+  std::istringstream is(text);
+  int n = 0;
+  std::string tok;
+  if (!(is >> n) || n < 0) throw std::runtime_error("corrupt normalizer state");
+  RunningNormalizer out(n);
+  auto next = [&]() {
+    if (!(is >> tok)) throw std::runtime_error("corrupt normalizer state");
+    return std::strtod(tok.c_str(), nullptr);
+  };
+  out.count_ = next();
+  for (int i = 0; i < n; ++i) {
+    out.mean_[i] = next();
+    out.var_[i] = next();
+  }
+  return out;
+}
+
+}  // namespace rlt

@@ -1,0 +1,46 @@
+// Running mean and variance of observations (Chan et al.'s parallel update), used to normalize
+// vector observations when `network_settings.normalize` is true.
+//
+// Reference: ML-Agents `mlagents/trainers/torch_entities/encoders.py` (Normalizer): statistics are
+// updated with each processed trajectory, normalized values are clipped to [-5, 5].
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rlt {
+
+class RunningNormalizer {
+ public:
+  RunningNormalizer() = default;
+  explicit RunningNormalizer(int size);
+
+  int size() const { return static_cast<int>(mean_.size()); }
+  double count() const { return count_; }
+  const std::vector<double>& mean() const { return mean_; }      // [size]
+  const std::vector<double>& variance() const { return var_; }   // [size]
+
+  // Folds `rows` observations (row-major [rows, size]) into the statistics.
+  void update(const float* data, int64_t rows);
+
+  // normalized = clamp((x - mean) / sqrt(var + 1e-8), -5, 5), applied to [rows, size] in place
+  void normalize(float* data, int64_t rows) const;
+  // 1 / sqrt(var + 1e-8) per element, as float: what the networks multiply by
+  std::vector<float> inverse_std() const;
+  std::vector<float> mean_float() const;
+
+  // text form for checkpoints (exact: hex floats)
+  std::string serialize() const;
+  static RunningNormalizer deserialize(const std::string& text);
+
+  static constexpr float kClip = 5.f;
+  static constexpr double kEps = 1e-8;
+
+ private:
+  double count_ = 0;          // observations seen
+  std::vector<double> mean_;  // [size]
+  std::vector<double> var_;   // [size] population variance
+};
+
+}  // namespace rlt

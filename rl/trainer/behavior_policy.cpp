@@ -1,0 +1,61 @@
+#include "rl/trainer/behavior_policy.h"
+
+#include <cstring>
+
+#include "rl/core/action_distribution.h"
+
+namespace rlt {
+
+void NetworkPolicy::act(BehaviorBuffers& buf) {
+  const auto& spec = buf.spec;
+  std::vector<int> rows;
+  for (int r = 0; r < buf.rows; ++r)
+    if (needs_action(buf.step_type[r])) rows.push_back(r);
+  if (rows.empty()) return;
+  const int m = spec.action.mask_size(), c = spec.action.continuous_size, k = spec.action.num_branches();
+  RowMatrix obs(int64_t(rows.size()), obs_size_);
+  std::vector<uint8_t> masks(rows.size() * m);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    float* dst = obs.data() + i * obs_size_;
+    for (size_t o = 0; o < spec.observations.size(); ++o) {
+      const int n = spec.observations[o].size();
+      std::memcpy(dst, buf.observations[o].data() + size_t(rows[i]) * n, sizeof(float) * n);
+      dst += n;
+    }
+    std::memcpy(masks.data() + i * m, buf.action_mask.data() + size_t(rows[i]) * m, m);
+  }
+  ActBatch out;
+  actor_.act(obs, m ? masks.data() : nullptr, deterministic_, rng_, out);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    for (int j = 0; j < c; ++j)
+      buf.continuous_actions[size_t(rows[i]) * c + j] = clip_continuous_action(out.continuous(i, j));
+    for (int j = 0; j < k; ++j) buf.discrete_actions[size_t(rows[i]) * k + j] = out.discrete(i, j);
+  }
+}
+
+void RandomPolicy::act(BehaviorBuffers& buf) {
+  const auto& a = buf.spec.action;
+  const int m = a.mask_size(), c = a.continuous_size, k = a.num_branches();
+  for (int r = 0; r < buf.rows; ++r) {
+    if (!needs_action(buf.step_type[r])) continue;
+    for (int j = 0; j < c; ++j)
+      buf.continuous_actions[size_t(r) * c + j] = float(2.0 * uniform01(rng_) - 1.0);
+    int offset = 0;
+    for (int j = 0; j < k; ++j) {
+      const int n = a.discrete_branches[j];
+      const uint8_t* allowed = buf.action_mask.data() + size_t(r) * m + offset;
+      int count = 0;
+      for (int o = 0; o < n; ++o) count += allowed[o] != 0;
+      int pick = int(uniform01(rng_) * count), choice = 0;
+      for (int o = 0; o < n; ++o)
+        if (allowed[o] && pick-- == 0) {
+          choice = o;
+          break;
+        }
+      buf.discrete_actions[size_t(r) * k + j] = choice;
+      offset += n;
+    }
+  }
+}
+
+}  // namespace rlt

@@ -1,0 +1,46 @@
+// Something that chooses the actions of one behavior's agents outside training: a trained network,
+// or a baseline (random). Used by evaluation.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "rl/core/fast_actor.h"
+#include "rl/env_api/step_buffers.h"
+
+namespace rlt {
+
+class BehaviorPolicy {
+ public:
+  virtual ~BehaviorPolicy() = default;
+  // writes an action for every row of `buf` that needs one
+  virtual void act(BehaviorBuffers& buf) = 0;
+};
+
+// A trained actor (weights copied into a FastActor).
+class NetworkPolicy : public BehaviorPolicy {
+ public:
+  NetworkPolicy(FastActor actor, int obs_size, bool deterministic, uint64_t seed)
+      : actor_(std::move(actor)), obs_size_(obs_size), deterministic_(deterministic), rng_(seed) {}
+  void act(BehaviorBuffers& buf) override;
+
+ private:
+  FastActor actor_;
+  int obs_size_;
+  bool deterministic_;
+  std::mt19937_64 rng_;
+};
+
+// Uniform random actions that respect the masks.
+class RandomPolicy : public BehaviorPolicy {
+ public:
+  explicit RandomPolicy(uint64_t seed) : rng_(seed) {}
+  void act(BehaviorBuffers& buf) override;
+
+ private:
+  std::mt19937_64 rng_;
+};
+
+}  // namespace rlt

@@ -1,0 +1,87 @@
+#include "rl/trainer/run_folder.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "rl/core/json.h"
+
+namespace fs = std::filesystem;
+
+namespace rlt {
+
+RunFolder::RunFolder(const std::string& results_dir, const std::string& run_id)
+    : path_(results_dir + "/" + run_id), run_id_(run_id) {
+  if (run_id.empty() || run_id.find('/') != std::string::npos || run_id == "." || run_id == "..")
+    throw std::invalid_argument("invalid run id '" + run_id + "': use a plain folder name");
+}
+
+bool RunFolder::exists() const { return fs::exists(path_); }
+
+void RunFolder::create(bool force) const {
+  if (exists()) {
+    if (!force)
+      throw std::runtime_error("run folder " + path_ +
+                               " already exists: use --resume to continue it or --force to overwrite it");
+    fs::remove_all(path_);
+  }
+  fs::create_directories(path_ + "/checkpoints");
+  fs::create_directories(path_ + "/metrics");
+}
+
+void write_file_atomically(const std::string& path, const std::string& contents) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot write " + tmp);
+    out << contents;
+    out.flush();
+    if (!out) throw std::runtime_error("cannot write " + tmp);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw std::runtime_error("cannot move " + tmp + " to " + path);
+}
+
+void RunFolder::write_status(const TrainingStatus& s) const {
+  std::ostringstream os;
+  os << "{\n  \"run_id\": " << json_string(s.run_id) << ",\n  \"finished\": "
+     << (s.finished ? "true" : "false") << ",\n  \"checkpoints\": [";
+  for (size_t i = 0; i < s.checkpoints.size(); ++i) {
+    const auto& c = s.checkpoints[i];
+    os << (i ? "," : "") << "\n    {\"index\": " << c.index << ", \"file\": " << json_string(c.file)
+       << ", \"elapsed_seconds\": " << json_number(c.elapsed_seconds) << ", \"steps\": {";
+    size_t j = 0;
+    for (const auto& [b, n] : c.steps) os << (j++ ? ", " : "") << json_string(b) << ": " << n;
+    os << "}}";
+  }
+  os << "\n  ]\n}\n";
+  write_file_atomically(status_path(), os.str());
+}
+
+TrainingStatus RunFolder::read_status() const {
+  if (!fs::exists(status_path()))
+    throw std::runtime_error(status_path() + " not found: is " + path_ + " a training run?");
+  TrainingStatus s;
+  try {
+    YAML::Node root = YAML::LoadFile(status_path());
+    s.run_id = root["run_id"].as<std::string>();
+    s.finished = root["finished"].as<bool>();
+    for (const auto& c : root["checkpoints"]) {
+      CheckpointEntry e;
+      e.index = c["index"].as<int64_t>();
+      e.file = c["file"].as<std::string>();
+      e.elapsed_seconds = c["elapsed_seconds"].as<double>();
+      for (const auto& kv : c["steps"]) e.steps[kv.first.as<std::string>()] = kv.second.as<int64_t>();
+      s.checkpoints.push_back(e);
+    }
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(status_path() + ": corrupt training status: " + e.what());
+  }
+  return s;
+}
+
+}  // namespace rlt

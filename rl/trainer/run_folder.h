@@ -1,0 +1,58 @@
+// The folder of one training run, results/<run-id>/:
+//   configuration.yaml     the resolved configuration
+//   training_status.json   steps per behavior, checkpoints (newest last), whether training finished
+//   checkpoints/           checkpoint-<index>.pt, written atomically (temporary file, then rename)
+//   metrics/<Behavior>.csv one row per update: losses, schedules, episodes since the last row
+//   <Behavior>.pt          the exported TorchScript policy
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace rlt {
+
+struct CheckpointEntry {
+  int64_t index = 0;                    // boundary number (1, 2, ...)
+  std::string file;                     // relative to the run folder
+  std::map<std::string, int64_t> steps; // per behavior
+  double elapsed_seconds = 0;
+};
+
+struct TrainingStatus {
+  std::string run_id;
+  std::vector<CheckpointEntry> checkpoints;  // oldest first
+  bool finished = false;
+};
+
+class RunFolder {
+ public:
+  RunFolder(const std::string& results_dir, const std::string& run_id);
+
+  const std::string& path() const { return path_; }
+  const std::string& run_id() const { return run_id_; }
+  std::string file(const std::string& relative) const { return path_ + "/" + relative; }
+  std::string config_path() const { return file("configuration.yaml"); }
+  std::string status_path() const { return file("training_status.json"); }
+  std::string policy_path(const std::string& behavior) const { return file(behavior + ".pt"); }
+  std::string metrics_path(const std::string& behavior) const {
+    return file("metrics/" + behavior + ".csv");
+  }
+  bool exists() const;
+
+  // Creates the folder for a new run. Throws when it exists, unless `force` (then it is emptied).
+  void create(bool force) const;
+
+  TrainingStatus read_status() const;  // throws naming the file when missing or corrupt
+  void write_status(const TrainingStatus& status) const;  // atomic
+
+ private:
+  std::string path_, run_id_;
+};
+
+// Writes `contents` to `path` through a temporary file and a rename, so that readers see either the
+// old file or the new one, never a partial file.
+void write_file_atomically(const std::string& path, const std::string& contents);
+
+}  // namespace rlt

@@ -1,0 +1,44 @@
+#include "rl/trainer/saved_run.h"
+
+#include <filesystem>
+
+#include "rl/config/config_parser.h"
+#include "rl/env_api/env_registry.h"
+
+namespace fs = std::filesystem;
+
+namespace rlt {
+
+SavedRun load_saved_run(const std::string& run_dir) {
+  fs::path dir = fs::path(run_dir).lexically_normal();
+  if (dir.filename().empty()) dir = dir.parent_path();
+  if (!fs::is_directory(dir)) throw std::runtime_error("run folder " + run_dir + " does not exist");
+  SavedRun run;
+  run.folder = std::make_unique<RunFolder>(dir.parent_path().empty() ? "." : dir.parent_path().string(),
+                                           dir.filename().string());
+  run.config = load_run_config(run.folder->config_path());
+  auto status = run.folder->read_status();
+  if (status.checkpoints.empty())
+    throw std::runtime_error(run.folder->path() + " has no checkpoint yet");
+  run.checkpoint = run.folder->file(status.checkpoints.back().file);
+  auto env = EnvRegistry::instance().make(run.config.env_settings.env_id, run.config.env_settings.params);
+  run.env_spec = env->spec();
+  torch::serialize::InputArchive archive;
+  try {
+    archive.load_from(run.checkpoint);
+  } catch (const c10::Error& e) {
+    throw std::runtime_error("cannot read checkpoint " + run.checkpoint + ": " + e.what_without_backtrace());
+  }
+  for (const auto& bs : run.env_spec.behaviors) {
+    auto t = std::make_unique<PpoTrainer>(bs, behavior_config(run.config, bs.name), bs.agent_slots, 0,
+                                          run.env_spec.name);
+    torch::serialize::InputArchive ba;
+    if (!archive.try_read("behavior." + bs.name, ba))
+      throw std::runtime_error("checkpoint " + run.checkpoint + " has no behavior " + bs.name);
+    t->load_weights(ba);
+    run.trainers.push_back(std::move(t));
+  }
+  return run;
+}
+
+}  // namespace rlt

@@ -1,0 +1,27 @@
+// A finished or running training run read back from its folder: the resolved configuration and
+// each behavior's network from the newest checkpoint (for eval and export).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rl/config/run_config.h"
+#include "rl/env_api/spec.h"
+#include "rl/ppo/ppo_trainer.h"
+#include "rl/trainer/run_folder.h"
+
+namespace rlt {
+
+struct SavedRun {
+  std::unique_ptr<RunFolder> folder;
+  RunConfig config;
+  EnvSpec env_spec;
+  std::string checkpoint;                           // path of the checkpoint that was loaded
+  std::vector<std::unique_ptr<PpoTrainer>> trainers;  // weights and normalizers loaded
+};
+
+// Throws with a message naming the folder or file when the run cannot be read.
+SavedRun load_saved_run(const std::string& run_dir);
+
+}  // namespace rlt

@@ -1,0 +1,340 @@
+#include "rl/trainer/training_run.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "rl/config/config_parser.h"
+#include "rl/core/archive_io.h"
+#include "rl/core/policy_export.h"
+
+namespace fs = std::filesystem;
+
+namespace rlt {
+
+namespace {
+
+const char* kMetricsHeader =
+    "step,elapsed_s,episodes,mean_return,std_return,mean_length,policy_loss,value_loss,entropy,"
+    "learning_rate,epsilon,beta\n";
+
+double mean_of(const std::vector<float>& v) {
+  double s = 0;
+  for (float x : v) s += x;
+  return v.empty() ? NAN : s / double(v.size());
+}
+
+double std_of(const std::vector<float>& v) {
+  if (v.empty()) return NAN;
+  const double m = mean_of(v);
+  double s = 0;
+  for (float x : v) s += (x - m) * (x - m);
+  return std::sqrt(s / double(v.size()));
+}
+
+// keeps the rows of a metrics file whose step is <= `step` (after a resume)
+void truncate_metrics(const std::string& path, int64_t step) {
+  std::ifstream in(path);
+  if (!in) return;
+  std::string line, kept;
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (header || std::stoll(line.substr(0, line.find(','))) <= step) kept += line + "\n";
+    header = false;
+  }
+  write_file_atomically(path, kept);
+}
+
+}  // namespace
+
+TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
+    : config_(std::move(config)), options_(std::move(options)) {
+  log_ = options_.log ? options_.log : &std::cout;
+  // command-line overrides
+  auto& cs = config_.checkpoint_settings;
+  auto& es = config_.env_settings;
+  if (!options_.run_id.empty()) cs.run_id = options_.run_id;
+  if (!options_.results_dir.empty()) cs.results_dir = options_.results_dir;
+  if (options_.resume) cs.resume = true;
+  if (options_.force) cs.force = true;
+  if (!options_.initialize_from.empty()) cs.initialize_from = options_.initialize_from;
+  if (cs.resume && cs.force) throw std::invalid_argument("--resume and --force exclude each other");
+  if (options_.num_envs > 0) es.num_envs = options_.num_envs;
+  if (options_.seed >= 0) es.seed = options_.seed;
+  if (options_.threads > 0) es.num_threads = options_.threads;
+  if (options_.max_steps > 0) {
+    for (auto& [name, b] : config_.behaviors) b.max_steps = options_.max_steps;
+    if (config_.default_settings) config_.default_settings->max_steps = options_.max_steps;
+  }
+  seed_ = es.seed >= 0 ? uint64_t(es.seed) : 0;
+  int threads = es.num_threads > 0 ? es.num_threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  torch::set_num_threads(threads);
+
+  // the environment and one trainer per behavior (all validation before anything is written)
+  env_ = std::make_unique<VectorEnv>(es.env_id, es.num_envs, seed_, es.params, std::min(threads, es.num_envs));
+  env_->set_parameters(config_.environment_parameters);
+  const EnvSpec& spec = env_->spec();
+  for (const auto& [name, b] : config_.behaviors)
+    if (spec.behavior_index(name) < 0) {
+      std::string known;
+      for (const auto& bs : spec.behaviors) known += (known.empty() ? "" : ", ") + bs.name;
+      throw std::invalid_argument(config_.source_file + ": behaviors." + name + ": environment " +
+                                  spec.name + " has no behavior '" + name + "' (it has: " + known + ")");
+    }
+  for (int b = 0; b < int(spec.behaviors.size()); ++b) {
+    const BehaviorSpec& bs = spec.behaviors[b];
+    BehaviorConfig bc = behavior_config(config_, bs.name);
+    if (options_.max_steps > 0) bc.max_steps = options_.max_steps;
+    config_.behaviors[bs.name] = bc;
+    torch::manual_seed(seed_ * 7919 + b);
+    trainers_.push_back(std::make_unique<PpoTrainer>(bs, bc, env_->buffers(b).rows,
+                                                     seed_ * 1000003 + 17 * b + 1, spec.name));
+  }
+  summary_returns_.resize(trainers_.size());
+  update_window_.resize(trainers_.size());
+
+  if (!options_.write_results) return;
+  folder_ = std::make_unique<RunFolder>(cs.results_dir, cs.run_id);
+  std::string init_checkpoint;
+  if (!cs.initialize_from.empty()) {
+    RunFolder source(cs.results_dir, cs.initialize_from);
+    auto st = source.read_status();
+    if (st.checkpoints.empty())
+      throw std::runtime_error(source.path() + " has no checkpoint to initialize from");
+    init_checkpoint = source.file(st.checkpoints.back().file);
+  }
+  if (cs.resume) {
+    if (!folder_->exists())
+      throw std::runtime_error("cannot resume: run folder " + folder_->path() + " does not exist");
+    status_ = folder_->read_status();
+    if (!status_.checkpoints.empty()) {
+      const auto& last = status_.checkpoints.back();
+      load_checkpoint(folder_->file(last.file), false);
+      for (auto& t : trainers_) truncate_metrics(folder_->metrics_path(t->behavior()), t->step());
+    }
+    status_.finished = false;
+  } else {
+    folder_->create(cs.force);
+    status_ = TrainingStatus{};
+    status_.run_id = cs.run_id;
+    if (!init_checkpoint.empty()) load_checkpoint(init_checkpoint, true);
+    for (auto& t : trainers_) write_file_atomically(folder_->metrics_path(t->behavior()), kMetricsHeader);
+  }
+  write_file_atomically(folder_->config_path(), run_config_to_yaml(config_));
+  folder_->write_status(status_);
+}
+
+TrainingRun::~TrainingRun() = default;
+
+double TrainingRun::elapsed() const {
+  return elapsed_before_ +
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+uint64_t TrainingRun::boundary_seed(int64_t index) const {
+  return seed_ + uint64_t(index) * 0x9E3779B97F4A7C15ull;
+}
+
+TrainResult TrainingRun::train(int stop_after_boundaries) {
+  start_ = std::chrono::steady_clock::now();
+  const int nb = num_trainers();
+  next_summary_.assign(nb, 0);
+  next_checkpoint_.assign(nb, 0);
+  for (int b = 0; b < nb; ++b) {
+    const auto& c = trainers_[b]->config();
+    next_summary_[b] = (trainers_[b]->step() / c.summary_freq + 1) * c.summary_freq;
+    next_checkpoint_[b] = (trainers_[b]->step() / c.checkpoint_interval + 1) * c.checkpoint_interval;
+  }
+  TrainResult result;
+  int64_t start_steps = 0;
+  for (auto& t : trainers_) start_steps += t->step();
+  int boundaries = 0;
+  auto all_finished = [&] {
+    return std::all_of(trainers_.begin(), trainers_.end(), [](auto& t) { return t->finished(); });
+  };
+  env_->reseed_and_reset(boundary_seed(boundary_index_));
+  while (!all_finished()) {
+    // act, step, learn
+    for (int b = 0; b < nb; ++b) trainers_[b]->act(env_->buffers(b));
+    env_->step();
+    result.env_steps += env_->num_envs();
+    for (int b = 0; b < nb; ++b) {
+      trainers_[b]->observe(env_->buffers(b));
+      auto ep = trainers_[b]->take_episode_stats();
+      summary_returns_[b].insert(summary_returns_[b].end(), ep.returns.begin(), ep.returns.end());
+      auto& w = update_window_[b];
+      w.returns.insert(w.returns.end(), ep.returns.begin(), ep.returns.end());
+      w.lengths.insert(w.lengths.end(), ep.lengths.begin(), ep.lengths.end());
+    }
+    env_->take_finished_episodes();
+    for (int b = 0; b < nb; ++b) {
+      auto& t = *trainers_[b];
+      if (!t.finished() && t.update_ready()) log_update(b, t.update());
+      if (t.step() >= next_summary_[b]) {
+        summarize(b);
+        while (next_summary_[b] <= t.step()) next_summary_[b] += t.config().summary_freq;
+      }
+    }
+    show_progress(false);
+    // checkpoint boundary when any behavior crossed its interval
+    bool due = false;
+    for (int b = 0; b < nb; ++b) due |= trainers_[b]->step() >= next_checkpoint_[b];
+    if (due && !all_finished()) {
+      boundary(false);
+      if (stop_after_boundaries > 0 && ++boundaries >= stop_after_boundaries) break;
+    }
+  }
+  if (all_finished()) boundary(true);
+  show_progress(true);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  for (auto& t : trainers_) result.agent_steps += t->step();
+  result.agent_steps -= start_steps;
+  for (int b = 0; b < nb; ++b) result.last_returns.push_back(float(mean_of(summary_returns_[b])));
+  return result;
+}
+
+void TrainingRun::boundary(bool final) {
+  for (int b = 0; b < num_trainers(); ++b) {
+    trainers_[b]->interrupt_all(env_->buffers(b));
+    const auto& c = trainers_[b]->config();
+    while (next_checkpoint_[b] <= trainers_[b]->step()) next_checkpoint_[b] += c.checkpoint_interval;
+  }
+  ++boundary_index_;
+  if (folder_) {
+    save_checkpoint();
+    if (final) {
+      export_policies();
+      status_.finished = true;
+      folder_->write_status(status_);
+    }
+  }
+  if (!final) env_->reseed_and_reset(boundary_seed(boundary_index_));
+}
+
+void TrainingRun::save_checkpoint() {
+  torch::serialize::OutputArchive archive;
+  write_vector(archive, "run.boundary_index", std::vector<int64_t>{boundary_index_});
+  write_vector(archive, "run.elapsed", std::vector<double>{elapsed()});
+  for (int b = 0; b < num_trainers(); ++b) {
+    torch::serialize::OutputArchive ba;
+    trainers_[b]->save(ba);
+    write_vector(ba, "summary_returns", summary_returns_[b]);
+    write_vector(ba, "window.returns", update_window_[b].returns);
+    write_vector(ba, "window.lengths", update_window_[b].lengths);
+    archive.write("behavior." + trainers_[b]->behavior(), ba);
+  }
+  CheckpointEntry entry;
+  entry.index = boundary_index_;
+  entry.file = "checkpoints/checkpoint-" + std::to_string(boundary_index_) + ".pt";
+  entry.elapsed_seconds = elapsed();
+  for (auto& t : trainers_) entry.steps[t->behavior()] = t->step();
+  const std::string path = folder_->file(entry.file);
+  archive.save_to(path + ".tmp");
+  if (std::rename((path + ".tmp").c_str(), path.c_str()) != 0)
+    throw std::runtime_error("cannot move " + path + ".tmp to " + path);
+  status_.checkpoints.push_back(entry);
+  // newest keep_checkpoints stay; the status names only files that exist
+  int keep = 1;
+  for (auto& t : trainers_) keep = std::max(keep, t->config().keep_checkpoints);
+  std::vector<std::string> removed;
+  while (int(status_.checkpoints.size()) > keep) {
+    removed.push_back(status_.checkpoints.front().file);
+    status_.checkpoints.erase(status_.checkpoints.begin());
+  }
+  folder_->write_status(status_);
+  for (const auto& f : removed) fs::remove(folder_->file(f));
+}
+
+void TrainingRun::load_checkpoint(const std::string& path, bool weights_only) {
+  torch::serialize::InputArchive archive;
+  try {
+    archive.load_from(path);
+  } catch (const c10::Error& e) {
+    throw std::runtime_error("cannot read checkpoint " + path + ": " + e.what_without_backtrace());
+  }
+  for (int b = 0; b < num_trainers(); ++b) {
+    torch::serialize::InputArchive ba;
+    if (!archive.try_read("behavior." + trainers_[b]->behavior(), ba))
+      throw std::runtime_error("checkpoint " + path + " has no behavior " + trainers_[b]->behavior());
+    if (weights_only) {
+      trainers_[b]->load_weights(ba);
+      continue;
+    }
+    trainers_[b]->load(ba);
+    summary_returns_[b] = read_vector<float>(ba, "summary_returns");
+    update_window_[b].returns = read_vector<float>(ba, "window.returns");
+    update_window_[b].lengths = read_vector<float>(ba, "window.lengths");
+  }
+  if (!weights_only) {
+    boundary_index_ = read_vector<int64_t>(archive, "run.boundary_index").at(0);
+    elapsed_before_ = read_vector<double>(archive, "run.elapsed").at(0);
+  }
+}
+
+void TrainingRun::export_policies() {
+  for (auto& t : trainers_)
+    export_policy(*t->network(), t->normalizer(), t->spec(), folder_->policy_path(t->behavior()));
+}
+
+void TrainingRun::log_update(int b, const UpdateStats& s) {
+  auto& w = update_window_[b];
+  if (folder_) {
+    std::ofstream out(folder_->metrics_path(trainers_[b]->behavior()), std::ios::app);
+    out << trainers_[b]->step() << ',' << elapsed() << ',' << w.returns.size() << ','
+        << mean_of(w.returns) << ',' << std_of(w.returns) << ',' << mean_of(w.lengths) << ','
+        << s.policy_loss << ',' << s.value_loss << ',' << s.entropy << ',' << s.learning_rate << ','
+        << s.epsilon << ',' << s.beta << '\n';
+  }
+  w = EpisodeStats{};
+}
+
+void TrainingRun::summarize(int b) {
+  auto& t = *trainers_[b];
+  auto& returns = summary_returns_[b];
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(3) << "[" << t.behavior() << "] Step: " << t.step()
+     << ". Time Elapsed: " << elapsed() << " s.";
+  if (returns.empty()) {
+    os << " No episode was completed since last summary.";
+  } else {
+    os << " Mean Reward: " << mean_of(returns) << ". Std of Reward: " << std_of(returns)
+       << ". Episodes: " << returns.size() << ".";
+  }
+  const double frac = double(t.step()) / double(t.config().max_steps);
+  if (frac > 0 && frac < 1) os << " ETA: " << std::setprecision(0) << elapsed() * (1 - frac) / frac << " s.";
+  os << (t.finished() ? "" : " Training.");
+  returns.clear();
+  if (options_.progress && isatty(2)) std::cerr << "\r\033[K";
+  *log_ << os.str() << std::endl;
+  last_progress_ = -1;
+}
+
+void TrainingRun::show_progress(bool done) {
+  if (!options_.progress || !isatty(2)) return;
+  const double now = elapsed();
+  if (!done && last_progress_ >= 0 && now - last_progress_ < 0.25) return;
+  last_progress_ = now;
+  double frac = 1;
+  for (auto& t : trainers_)
+    frac = std::min(frac, double(t->step()) / double(t->config().max_steps));
+  frac = std::clamp(frac, 0.0, 1.0);
+  const int width = 30, filled = int(frac * width);
+  std::ostringstream os;
+  os << "\r\033[K" << std::setw(3) << int(frac * 100) << "% [" << std::string(filled, '=')
+     << std::string(width - filled, ' ') << "] ";
+  for (auto& t : trainers_) os << t->behavior() << " " << t->step() << "/" << t->config().max_steps << "  ";
+  os << std::fixed << std::setprecision(0) << now << " s";
+  if (frac > 0 && frac < 1) os << ", ETA " << now * (1 - frac) / frac << " s";
+  if (done) os << "\n";
+  std::cerr << os.str() << std::flush;
+}
+
+}  // namespace rlt

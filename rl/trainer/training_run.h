@@ -1,0 +1,89 @@
+// One training run: a VectorEnv, one trainer per behavior, summaries, metrics, checkpoints, export.
+//
+// Checkpoints are taken at *boundaries*: every running trajectory is ended as interrupted (with a
+// bootstrap), the trainers' state is saved, and every env instance is reseeded from the boundary
+// number and restarted. A resumed run restarts from exactly the same point, so a run stopped and
+// resumed ends bit-identical to an uninterrupted one with the same seed, for any environment
+// (nothing of an env's internal state has to be saved).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rl/config/run_config.h"
+#include "rl/env_api/vector_env.h"
+#include "rl/ppo/ppo_trainer.h"
+#include "rl/trainer/run_folder.h"
+
+namespace rlt {
+
+struct TrainOptions {
+  std::string run_id;             // overrides checkpoint_settings.run_id when set
+  std::string results_dir;        // overrides checkpoint_settings.results_dir when set
+  bool resume = false, force = false;
+  std::string initialize_from;    // run id (in the results dir) to take initial weights from
+  int num_envs = 0;               // overrides env_settings.num_envs when > 0
+  int64_t seed = -1;              // overrides env_settings.seed when >= 0
+  int64_t max_steps = 0;          // overrides every behavior's max_steps when > 0
+  int threads = 0;                // env and LibTorch threads (0 = number of cores)
+  bool write_results = true;      // false: no run folder (benchmarks)
+  std::ostream* log = nullptr;    // summary lines (null = std::cout)
+  bool progress = true;           // progress indicator on a terminal
+};
+
+struct TrainResult {
+  double seconds = 0;
+  int64_t env_steps = 0;    // vector-env steps x instances
+  int64_t agent_steps = 0;  // decisions of all behaviors
+  std::vector<float> last_returns;  // per behavior: mean return of the last summary window
+};
+
+class TrainingRun {
+ public:
+  // Applies `options` to `config`, validates the environment, and prepares the run folder
+  // (throws before writing anything when the config or the options are wrong).
+  TrainingRun(RunConfig config, TrainOptions options);
+  ~TrainingRun();
+
+  // Trains until every behavior reaches its max_steps (or `stop_after_boundaries` boundaries were
+  // written, for tests of interrupted runs; 0 = no limit).
+  TrainResult train(int stop_after_boundaries = 0);
+
+  const RunConfig& config() const { return config_; }
+  PpoTrainer& trainer(int behavior) { return *trainers_[behavior]; }
+  int num_trainers() const { return static_cast<int>(trainers_.size()); }
+  const RunFolder* folder() const { return folder_.get(); }
+
+ private:
+  void boundary(bool final);
+  void save_checkpoint();
+  void load_checkpoint(const std::string& path, bool weights_only);
+  void export_policies();
+  void log_update(int b, const UpdateStats& stats);
+  void summarize(int b);
+  void show_progress(bool force);
+  double elapsed() const;
+  uint64_t boundary_seed(int64_t index) const;
+
+  RunConfig config_;
+  TrainOptions options_;
+  uint64_t seed_ = 0;
+  std::unique_ptr<RunFolder> folder_;
+  std::unique_ptr<VectorEnv> env_;
+  std::vector<std::unique_ptr<PpoTrainer>> trainers_;
+  TrainingStatus status_;
+  int64_t boundary_index_ = 0;
+  double elapsed_before_ = 0;  // seconds trained before a resume
+  std::chrono::steady_clock::time_point start_;
+  std::vector<int64_t> next_summary_, next_checkpoint_;  // per behavior
+  std::vector<std::vector<float>> summary_returns_;       // per behavior
+  std::vector<EpisodeStats> update_window_;               // per behavior: episodes since last row
+  double last_progress_ = -1;
+  std::ostream* log_;
+};
+
+}  // namespace rlt
