@@ -8,6 +8,7 @@
 #include "rl/core/archive_io.h"
 #include "rl/core/bad_numbers.h"
 #include "rl/core/gae.h"
+#include "rl/ppo/ppo_loss.h"
 
 namespace rlt {
 
@@ -246,36 +247,26 @@ UpdateStats PpoTrainer::update() {
                                  s.mask_size() ? mask.index_select(0, idx) : torch::Tensor(),
                                  s.continuous_size ? cont.index_select(0, idx) : torch::Tensor(),
                                  s.num_branches() ? disc.index_select(0, idx) : torch::Tensor());
-      auto mb_adv = adv.index_select(0, idx);
-      // clipped surrogate
-      auto ratio = torch::exp(lp.log_prob - old_log_prob.index_select(0, idx));
-      auto surrogate = torch::min(ratio * mb_adv,
-                                  torch::clamp(ratio, 1.f - stats.epsilon, 1.f + stats.epsilon) * mb_adv);
-      auto policy_loss = -surrogate.mean();
-      // clipped value loss
       auto value = net_->value(mb_obs, out.hidden);
-      auto mb_old_value = old_value.index_select(0, idx);
-      auto mb_returns = returns.index_select(0, idx);
-      auto value_clipped = mb_old_value + torch::clamp(value - mb_old_value, -stats.epsilon, stats.epsilon);
-      auto value_loss = torch::max(torch::square(mb_returns - value), torch::square(mb_returns - value_clipped)).mean();
-      auto entropy = lp.entropy.mean();
-      auto loss = policy_loss + 0.5f * value_loss - stats.beta * entropy;
-
+      PpoLoss l = ppo_loss(lp.log_prob, old_log_prob.index_select(0, idx), adv.index_select(0, idx),
+                           value, old_value.index_select(0, idx), returns.index_select(0, idx),
+                           lp.entropy, stats.epsilon, stats.beta);
+      const auto& loss = l.total;
       const float loss_value = loss.item<float>();
       if (!std::isfinite(loss_value)) {
         std::ostringstream os;
         os << "behavior " << spec_.name << ", update " << updates_ + 1 << ", step " << step_
-           << ": loss is " << loss_value << " (policy " << policy_loss.item<float>() << ", value "
-           << value_loss.item<float>() << ", entropy " << entropy.item<float>() << ")";
+           << ": loss is " << loss_value << " (policy " << l.policy.item<float>() << ", value "
+           << l.value.item<float>() << ", entropy " << l.entropy.item<float>() << ")";
         throw BadNumberError(os.str());
       }
       optimizer_->zero_grad();
       loss.backward();
       if (hp.max_grad_norm > 0) torch::nn::utils::clip_grad_norm_(net_->parameters(), hp.max_grad_norm);
       optimizer_->step();
-      sum_policy += policy_loss.item<float>();
-      sum_value += value_loss.item<float>();
-      sum_entropy += entropy.item<float>();
+      sum_policy += l.policy.item<float>();
+      sum_value += l.value.item<float>();
+      sum_entropy += l.entropy.item<float>();
     }
   }
   const double count = std::max<int64_t>(1, batches * hp.num_epoch);

@@ -1,0 +1,23 @@
+#include "rl/ppo/ppo_loss.h"
+
+namespace rlt {
+
+PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_prob,
+                 const torch::Tensor& advantages, const torch::Tensor& values,
+                 const torch::Tensor& old_values, const torch::Tensor& returns,
+                 const torch::Tensor& entropy, float epsilon, float beta) {
+  PpoLoss out;
+  // clipped surrogate
+  auto ratio = torch::exp(log_prob - old_log_prob);
+  auto clipped_ratio = torch::clamp(ratio, 1.f - epsilon, 1.f + epsilon);
+  out.policy = -torch::min(ratio * advantages, clipped_ratio * advantages).mean();
+  // clipped value loss
+  auto values_clipped = old_values + torch::clamp(values - old_values, -epsilon, epsilon);
+  out.value =
+      torch::max(torch::square(returns - values), torch::square(returns - values_clipped)).mean();
+  out.entropy = entropy.mean();
+  out.total = out.policy + 0.5f * out.value - beta * out.entropy;
+  return out;
+}
+
+}  // namespace rlt
