@@ -3,6 +3,7 @@
 #include "apps/command_line.h"
 #include "apps/commands.h"
 #include "rl/config/config_parser.h"
+#include "rl/env_api/env_registry.h"
 #include "rl/trainer/training_run.h"
 
 namespace rlt {
@@ -43,6 +44,15 @@ int run_train(const std::vector<std::string>& args) {
   opt.max_steps = cl.integer("--max-steps", 0, 1);
   opt.threads = int(cl.integer("--threads", 0, 1));
   RunConfig config = load_run_config(cl.positional()[0]);
+  // the parser does not know the registry: name the file and key of an unknown env here
+  const std::string& env_id = config.env_settings.env_id;
+  if (!EnvRegistry::instance().contains(env_id)) {
+    std::string known;
+    for (const auto& name : EnvRegistry::instance().names())
+      known += (known.empty() ? "" : ", ") + name;
+    throw ConfigError(config.source_file, "env_settings.env_id", 0,
+                      "unknown environment '" + env_id + "' (known: " + known + ")");
+  }
   TrainingRun run(std::move(config), opt);
   std::cout << "Training " << run.config().env_settings.env_id << " into "
             << run.folder()->path() << " (" << run.config().env_settings.num_envs

@@ -12,6 +12,7 @@
 
 #include "rl/config/run_config.h"
 #include "rl/core/running_normalizer.h"
+#include "rl/env_api/uniform_random.h"
 #include "rl/env_api/spec.h"
 
 namespace rlt {
@@ -59,8 +60,6 @@ class FastActor {
   Eigen::RowVectorXf log_std_;  // [C]
 };
 
-// Uniform double in [0, 1) from 53 random bits: independent of the standard library's distributions.
-inline double uniform01(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
 // Standard normal by Box-Muller.
 double standard_normal(std::mt19937_64& rng);
 

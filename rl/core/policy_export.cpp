@@ -29,16 +29,17 @@ std::string behavior_spec_json(const BehaviorSpec& spec) {
 }
 
 namespace {
-std::string activation_code(Activation a, const std::string& x) {
+// TorchScript expression of the activation of `h`
+std::string activation_code(Activation a) {
   switch (a) {
     case Activation::kTanh:
-      return "torch.tanh(" + x + ")";
+      return "torch.tanh(h)";
     case Activation::kRelu:
-      return "torch.relu(" + x + ")";
+      return "torch.relu(h)";
     case Activation::kSwish:
       break;
   }
-  return "torch.nn.functional.silu(" + x + ")";
+  return "h * torch.sigmoid(h)";
 }
 }  // namespace
 
@@ -64,10 +65,8 @@ void export_policy(const PolicyNetworkImpl& net, const RunningNormalizer* normal
   for (size_t l = 0; l < net.actor_body.size(); ++l) {
     add("w" + std::to_string(l), net.actor_body[l].weight);
     add("b" + std::to_string(l), net.actor_body[l].bias);
-    src << "    x = "
-        << activation_code(shape.activation, "torch.addmm(self.b" + std::to_string(l) + ", x, self.w" +
-                                                 std::to_string(l) + ")")
-        << "\n";
+    src << "    h = torch.addmm(self.b" << l << ", x, self.w" << l << ")\n";
+    src << "    x = " << activation_code(shape.activation) << "\n";
   }
   if (spec.action.continuous_size > 0) {
     add("mean_w", net.mean_head.weight);
@@ -90,7 +89,7 @@ void export_policy(const PolicyNetworkImpl& net, const RunningNormalizer* normal
     }
     src << "    discrete = torch.stack(choices, 1)\n";
   } else {
-    src << "    discrete = torch.zeros([batch, 0], dtype=torch.int64)\n";
+    src << "    discrete = torch.zeros([batch, 0]).long()\n";
   }
   src << "    return continuous, discrete\n";
   m.register_attribute("spec_json", c10::StringType::get(), behavior_spec_json(spec));

@@ -1,0 +1,283 @@
+// The `rlt` command line, run as a separate process: help and usage errors (exit 2), configuration
+// errors naming the file and key path without creating the results dir, run-folder protection
+// (existing run, missing resume), and a short real train -> eval -> export -> bench sequence.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifndef RLT_BINARY
+#error "RLT_BINARY must name the rlt executable"
+#endif
+#ifndef RLT_SOURCE_DIR
+#error "RLT_SOURCE_DIR must name the source tree"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+void write_file(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+}
+
+std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+// text of configs/cartpole_ppo.yaml with `from` replaced by `to` (which must occur)
+std::string cartpole_config(const std::string& from = "", const std::string& to = "") {
+  std::string text = read_file(fs::path(RLT_SOURCE_DIR) / "configs/cartpole_ppo.yaml");
+  if (!from.empty()) {
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+  }
+  return text;
+}
+
+class RltCliTest : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = fs::temp_directory_path() / ("rlt_cli_test_" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+
+  // runs `rlt ARGS` (ARGS already quoted as needed) in `cwd` (default: the current directory),
+  // capturing stdout and stderr
+  static Result rlt(const std::string& args, const fs::path& cwd = {}) {
+    static int counter = 0;
+    const fs::path out = root_ / ("out" + std::to_string(counter) + ".txt");
+    const fs::path err = root_ / ("err" + std::to_string(counter++) + ".txt");
+    const std::string cd = cwd.empty() ? "" : "cd " + quote(cwd.string()) + " && ";
+    const std::string command =
+        cd + RLT_BINARY + " " + args + " > " + quote(out.string()) + " 2> " + quote(err.string());
+    const int status = std::system(command.c_str());
+    Result r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = read_file(out);
+    r.err = read_file(err);
+    return r;
+  }
+
+  static std::string config_file(const std::string& name, const std::string& text) {
+    const fs::path path = root_ / name;
+    write_file(path, text);
+    return path.string();
+  }
+
+  // a run trained once for the tests that need one: 2000 CartPole steps
+  static const fs::path& trained_run() {
+    static fs::path run;
+    if (!run.empty()) return run;
+    std::string text = cartpole_config("summary_freq: 50000", "summary_freq: 500");
+    const auto at = text.find("checkpoint_interval: 100000");
+    text.replace(at, 27, "checkpoint_interval: 1000");
+    const std::string config = config_file("short.yaml", text);
+    const fs::path results = root_ / "results";
+    Result r = rlt("train " + quote(config) + " --max-steps 2000 --threads 1 --run-id short" +
+                   " --results-dir " + quote(results.string()));
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    run = results / "short";
+    return run;
+  }
+
+  static fs::path root_;
+};
+
+fs::path RltCliTest::root_;
+
+TEST_F(RltCliTest, HelpListsCommands) {
+  Result r = rlt("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* command : {"train", "eval", "export", "envs", "bench"})
+    EXPECT_NE(r.out.find(std::string("  ") + command), std::string::npos) << command;
+}
+
+TEST_F(RltCliTest, EachCommandHasHelp) {
+  for (const char* command : {"train", "eval", "export", "envs", "bench"}) {
+    Result r = rlt(std::string(command) + " --help");
+    EXPECT_EQ(r.exit_code, 0) << command;
+    EXPECT_NE(r.out.find("Usage:"), std::string::npos) << command << ": " << r.out;
+    EXPECT_NE(r.out.find(std::string("rlt ") + command), std::string::npos) << command;
+  }
+}
+
+TEST_F(RltCliTest, UnknownCommandOrFlagIsAUsageError) {
+  Result r = rlt("frobnicate");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("unknown command 'frobnicate'"), std::string::npos) << r.err;
+  r = rlt("train x.yaml --bogus-flag 3");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("unknown option --bogus-flag"), std::string::npos) << r.err;
+  r = rlt("eval somewhere --episodes");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--episodes needs a value"), std::string::npos) << r.err;
+  r = rlt("envs --verbose");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("unknown option --verbose"), std::string::npos) << r.err;
+}
+
+TEST_F(RltCliTest, ConfigErrorsNameFileAndKeyAndWriteNothing) {
+  struct Bad {
+    std::string name, from, to, key_path, problem;
+  };
+  const std::vector<Bad> cases = {
+      {"unknown_key", "    max_steps: 500000", "    max_steps: 500000\n    max_stpes: 3",
+       "behaviors.CartPole", "unknown key 'max_stpes'"},
+      {"wrong_type", "num_epoch: 4", "num_epoch: four",
+       "behaviors.CartPole.hyperparameters.num_epoch", "four"},
+      {"out_of_range", "epsilon: 0.2", "epsilon: 1.5", "behaviors.CartPole.hyperparameters.epsilon",
+       "1.5"},
+      {"unknown_env", "env_id: CartPole", "env_id: CartPol", "env_settings.env_id", "CartPol"},
+      {"unknown_behavior", "  CartPole:\n", "  CartPoles:\n", "behaviors.CartPoles", "CartPoles"},
+  };
+  for (const Bad& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string config = config_file(c.name + ".yaml", cartpole_config(c.from, c.to));
+    const fs::path results = root_ / ("results_" + c.name);
+    Result r = rlt("train " + quote(config) + " --results-dir " + quote(results.string()));
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find(config), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.key_path + ":"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.problem), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(results)) << results;
+  }
+}
+
+TEST_F(RltCliTest, EnvsListsBuiltinEnvironments) {
+  Result r = rlt("envs");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  for (const char* env : {"CartPole", "Pendulum", "HybridReach", "MaskedChoice"})
+    EXPECT_NE(r.out.find(std::string(env) + " (episode:"), std::string::npos) << env << r.out;
+}
+
+TEST_F(RltCliTest, TrainWritesTheRunFolder) {
+  const fs::path& run = trained_run();
+  EXPECT_TRUE(fs::is_regular_file(run / "configuration.yaml"));
+  EXPECT_TRUE(fs::is_regular_file(run / "training_status.json"));
+  EXPECT_TRUE(fs::is_regular_file(run / "CartPole.pt"));
+  EXPECT_GT(fs::file_size(run / "CartPole.pt"), 0u);
+  int checkpoints = 0;
+  for (const auto& entry : fs::directory_iterator(run / "checkpoints"))
+    checkpoints += entry.path().extension() == ".pt";
+  EXPECT_GE(checkpoints, 1);
+  const std::string status = read_file(run / "training_status.json");
+  EXPECT_NE(status.find("\"finished\": true"), std::string::npos) << status;
+  EXPECT_NE(status.find("checkpoints/"), std::string::npos) << status;
+  // the resolved configuration records the overrides
+  const std::string config = read_file(run / "configuration.yaml");
+  EXPECT_NE(config.find("max_steps: 2000"), std::string::npos) << config;
+  // metrics: a header and at least one row per update
+  std::ifstream metrics(run / "metrics/CartPole.csv");
+  std::string header, row;
+  ASSERT_TRUE(std::getline(metrics, header));
+  EXPECT_EQ(header.rfind("step,", 0), 0u) << header;
+  int rows = 0;
+  while (std::getline(metrics, row)) rows += !row.empty();
+  EXPECT_GE(rows, 1);
+}
+
+TEST_F(RltCliTest, ExistingRunIdWithoutResumeOrForceTouchesNothing) {
+  const fs::path& run = trained_run();
+  auto snapshot = [&] {
+    std::map<std::string, std::pair<fs::file_time_type, std::string>> files;
+    for (const auto& e : fs::recursive_directory_iterator(run))
+      if (e.is_regular_file())
+        files[e.path().string()] = {fs::last_write_time(e.path()), read_file(e.path())};
+    return files;
+  };
+  const auto before = snapshot();
+  ASSERT_FALSE(before.empty());
+  const std::string config = config_file("again.yaml", cartpole_config());
+  Result r = rlt("train " + quote(config) + " --max-steps 2000 --threads 1 --run-id short" +
+                 " --results-dir " + quote(run.parent_path().string()));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("already exists"), std::string::npos) << r.err;
+  EXPECT_TRUE(before == snapshot()) << "the existing run changed";
+}
+
+TEST_F(RltCliTest, ResumeOfAMissingRunIsAnError) {
+  const std::string config = config_file("resume.yaml", cartpole_config());
+  const fs::path results = root_ / "results_resume";
+  Result r = rlt("train " + quote(config) + " --resume --run-id nothing --results-dir " +
+                 quote(results.string()));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("cannot resume"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(results / "nothing"));
+}
+
+TEST_F(RltCliTest, EvalPrintsOneJsonLine) {
+  const fs::path& run = trained_run();
+  Result r = rlt("eval " + quote(run.string()) + " --episodes 3 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_FALSE(r.out.empty());
+  EXPECT_EQ(r.out.find('\n'), r.out.size() - 1) << r.out;
+  const std::string number = R"((-?[0-9][0-9.eE+-]*))";
+  std::smatch m;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(^\{"behavior":"CartPole",)")));
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"("episodes":3[,}])")));
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("\"mean_return\":" + number))) << r.out;
+  // CartPole pays 1 per step, so any episode returns at least 1
+  EXPECT_GE(std::stod(m[1]), 1.0);
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("\"std_return\":" + number))) << r.out;
+  EXPECT_GE(std::stod(m[1]), 0.0);
+  EXPECT_EQ(r.out.back(), '\n');
+  EXPECT_EQ(r.out[r.out.size() - 2], '}');
+}
+
+TEST_F(RltCliTest, ExportRewritesThePolicy) {
+  const fs::path& run = trained_run();
+  const fs::path policy = run / "CartPole.pt";
+  ASSERT_TRUE(fs::exists(policy));
+  const auto old_time = fs::file_time_type::clock::now() - std::chrono::hours(24 * 365);
+  fs::last_write_time(policy, old_time);
+  const std::string before = read_file(policy);
+  Result r = rlt("export " + quote(run.string()));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("CartPole.pt"), std::string::npos) << r.out;
+  EXPECT_GT(fs::last_write_time(policy), old_time);
+  EXPECT_GT(fs::file_size(policy), 0u);
+  EXPECT_FALSE(fs::exists(policy.string() + ".tmp"));
+}
+
+TEST_F(RltCliTest, BenchTrainReportsRates) {
+  // run in an empty folder: the config's run id and default results dir must not appear there
+  const fs::path cwd = root_ / "bench_cwd";
+  fs::create_directories(cwd);
+  Result r = rlt("bench train " + quote(config_file("bench.yaml", cartpole_config())) +
+                     " --steps 2000 --threads 1 --json",
+                 cwd);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string number = R"(([0-9][0-9.eE+-]*))";
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("\"env_steps_per_s\":" + number))) << r.out;
+  EXPECT_GT(std::stod(m[1]), 0.0);
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("\"agent_steps_per_s\":" + number))) << r.out;
+  EXPECT_GT(std::stod(m[1]), 0.0);
+  EXPECT_TRUE(fs::is_empty(cwd)) << "a benchmark wrote a run folder";
+}
+
+}  // namespace
