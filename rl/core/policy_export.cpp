@@ -2,6 +2,7 @@
 
 #include <torch/script.h>
 
+#include <cctype>
 #include <cstdio>
 #include <sstream>
 
@@ -47,7 +48,11 @@ void export_policy(const PolicyNetworkImpl& net, const RunningNormalizer* normal
                    const BehaviorSpec& spec, const std::string& path) {
   torch::NoGradGuard no_grad;
   const auto& shape = net.shape();
-  torch::jit::Module m("rlt_policy_" + spec.name);
+  // the module's class name must be an identifier: behavior names may hold any character
+  std::string class_name = "rlt_policy_" + spec.name;
+  for (char& c : class_name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  torch::jit::Module m(class_name);
   auto add = [&](const std::string& name, const torch::Tensor& t) {
     m.register_buffer(name, t.detach().clone());
   };

@@ -162,9 +162,10 @@ TEST(FastActorTest, MatchesPolicyNetwork) {
         EXPECT_TRUE(mask[r * m + offset + choice]) << "row " << r << " branch " << br;
         // the torch argmax, up to float noise between near-equal logits
         const int64_t best = branch.argmax().item<int64_t>();
-        if (choice != best)
+        if (choice != best) {
           EXPECT_NEAR(branch[choice].item<float>(), branch[best].item<float>(), 1e-5)
               << "row " << r << " branch " << br;
+        }
         offset += n;
       }
       EXPECT_NEAR(det.value[r], value[r].item<float>(), 1e-5) << "row " << r;

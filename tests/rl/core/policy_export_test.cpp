@@ -135,7 +135,7 @@ constexpr int kObs = 6;  // "pos" [4] + "grid" [1, 2, 1]
 
 BehaviorSpec make_behavior(int continuous, std::vector<int> branches) {
   BehaviorSpec spec;
-  spec.name = "Probe\"Bot";
+  spec.name = "Probe \"Bot\"?team=0";  // not an identifier
   spec.observations.push_back({"pos", {4}, ObservationKind::kVector});
   spec.observations.push_back({"grid", {1, 2, 1}, ObservationKind::kGrid});
   spec.action.continuous_size = continuous;
@@ -287,7 +287,7 @@ class PolicyExportTest : public testing::Test {
       EXPECT_EQ(got.format_version, 1);
       Json json = JsonReader(got.spec_json).document();
       EXPECT_EQ(got.spec_json, behavior_spec_json(spec));
-      EXPECT_EQ(json.at("name").text, "Probe\"Bot");
+      EXPECT_EQ(json.at("name").text, "Probe \"Bot\"?team=0");
       ASSERT_EQ(json.at("observations").items.size(), 2u);
       EXPECT_EQ(json.at("observations").items[0].at("name").text, "pos");
       EXPECT_EQ(json.at("observations").items[0].at("kind").text, "vector");
@@ -303,8 +303,12 @@ class PolicyExportTest : public testing::Test {
       EXPECT_EQ(json.at("agent_slots").number, 3.0);
     }
     // the inputs reach the interesting regions
-    if (c > 0) EXPECT_GT(clipped, 0);
-    if (k > 0) EXPECT_GT(mask_changed, 0);
+    if (c > 0) {
+      EXPECT_GT(clipped, 0);
+    }
+    if (k > 0) {
+      EXPECT_GT(mask_changed, 0);
+    }
   }
 
   fs::path dir_;
