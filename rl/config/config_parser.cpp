@@ -547,6 +547,8 @@ void Parser::parse_hyperparameters(const Val& value, Hyperparameters* hyper,
           {"shared_critic", [&](const Val& v) { hyper->shared_critic = read_bool(v); }},
           {"max_grad_norm",
            [&](const Val& v) { hyper->max_grad_norm = read_float(v, kNonNegativeReal); }},
+          {"value_loss_coef",
+           [&](const Val& v) { hyper->value_loss_coef = read_float(v, kNonNegativeReal); }},
       });
 }
 
@@ -852,6 +854,8 @@ void emit_behavior(YAML::Emitter& out, const BehaviorConfig& config) {
   out << YAML::Key << "shared_critic" << YAML::Value << hyper.shared_critic;
   out << YAML::Key << "max_grad_norm" << YAML::Value;
   emit_float(out, hyper.max_grad_norm);
+  out << YAML::Key << "value_loss_coef" << YAML::Value;
+  emit_float(out, hyper.value_loss_coef);
   out << YAML::EndMap;
 
   out << YAML::Key << "network_settings" << YAML::Value << YAML::BeginMap;

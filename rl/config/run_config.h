@@ -28,6 +28,7 @@ struct Hyperparameters {
   int num_epoch = 3;               // passes over the buffer per update
   bool shared_critic = false;      // actor and critic share the body
   float max_grad_norm = 0.f;       // extension: clip the global gradient norm (0 = off, as ML-Agents)
+  float value_loss_coef = 0.5f;    // extension: weight of the value loss (ML-Agents: 0.5)
 };
 
 enum class Activation { kSwish, kTanh, kRelu };

@@ -5,7 +5,7 @@ namespace rlt {
 PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_prob,
                  const torch::Tensor& advantages, const torch::Tensor& values,
                  const torch::Tensor& old_values, const torch::Tensor& returns,
-                 const torch::Tensor& entropy, float epsilon, float beta) {
+                 const torch::Tensor& entropy, float epsilon, float beta, float value_loss_coef) {
   PpoLoss out;
   // clipped surrogate
   auto ratio = torch::exp(log_prob - old_log_prob);
@@ -16,7 +16,7 @@ PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_pro
   out.value =
       torch::max(torch::square(returns - values), torch::square(returns - values_clipped)).mean();
   out.entropy = entropy.mean();
-  out.total = out.policy + 0.5f * out.value - beta * out.entropy;
+  out.total = out.policy + value_loss_coef * out.value - beta * out.entropy;
   return out;
 }
 

@@ -1,7 +1,7 @@
 // The PPO objective on one minibatch, as ML-Agents' `ppo/optimizer_torch.py` computes it:
 //   policy = -mean(min(r A, clip(r, 1 - eps, 1 + eps) A)),  r = exp(log_prob - old_log_prob)
 //   value  = mean(max((R - V)^2, (R - V_clip)^2)),          V_clip = V_old + clip(V - V_old, -eps, eps)
-//   total  = policy + 0.5 value - beta mean(entropy)
+//   total  = policy + c value - beta mean(entropy)    (c = value_loss_coef, ML-Agents: 0.5)
 #pragma once
 
 #include <torch/torch.h>
@@ -19,6 +19,7 @@ struct PpoLoss {
 PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_prob,
                  const torch::Tensor& advantages, const torch::Tensor& values,
                  const torch::Tensor& old_values, const torch::Tensor& returns,
-                 const torch::Tensor& entropy, float epsilon, float beta);
+                 const torch::Tensor& entropy, float epsilon, float beta,
+                 float value_loss_coef = 0.5f);
 
 }  // namespace rlt

@@ -250,7 +250,7 @@ UpdateStats PpoTrainer::update() {
       auto value = net_->value(mb_obs, out.hidden);
       PpoLoss l = ppo_loss(lp.log_prob, old_log_prob.index_select(0, idx), adv.index_select(0, idx),
                            value, old_value.index_select(0, idx), returns.index_select(0, idx),
-                           lp.entropy, stats.epsilon, stats.beta);
+                           lp.entropy, stats.epsilon, stats.beta, hp.value_loss_coef);
       const auto& loss = l.total;
       const float loss_value = loss.item<float>();
       if (!std::isfinite(loss_value)) {

@@ -101,6 +101,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   }
   summary_returns_.resize(trainers_.size());
   update_window_.resize(trainers_.size());
+  recent_returns_.resize(trainers_.size());
 
   if (!options_.write_results) return;
   folder_ = std::make_unique<RunFolder>(cs.results_dir, cs.run_id);
@@ -174,6 +175,11 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
       auto& w = update_window_[b];
       w.returns.insert(w.returns.end(), ep.returns.begin(), ep.returns.end());
       w.lengths.insert(w.lengths.end(), ep.lengths.begin(), ep.lengths.end());
+      for (float r : ep.returns) {
+        if (options_.on_episode) options_.on_episode(b, trainers_[b]->step(), r);
+        recent_returns_[b].push_back(r);
+        if (recent_returns_[b].size() > kRecentEpisodes) recent_returns_[b].pop_front();
+      }
     }
     env_->take_finished_episodes();
     for (int b = 0; b < nb; ++b) {

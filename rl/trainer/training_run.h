@@ -9,6 +9,8 @@
 
 #include <chrono>
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -33,6 +35,8 @@ struct TrainOptions {
   bool write_results = true;      // false: no run folder (benchmarks)
   std::ostream* log = nullptr;    // summary lines (null = std::cout)
   bool progress = true;           // progress indicator on a terminal
+  // called for every finished agent episode: (behavior index, behavior's step, episode return)
+  std::function<void(int, int64_t, float)> on_episode;
 };
 
 struct TrainResult {
@@ -57,6 +61,9 @@ class TrainingRun {
   PpoTrainer& trainer(int behavior) { return *trainers_[behavior]; }
   int num_trainers() const { return static_cast<int>(trainers_.size()); }
   const RunFolder* folder() const { return folder_.get(); }
+  // returns of the newest finished agent episodes of behavior `b` (at most kRecentEpisodes)
+  const std::deque<float>& recent_returns(int b) const { return recent_returns_[b]; }
+  static constexpr size_t kRecentEpisodes = 100;
 
  private:
   void boundary(bool final);
@@ -82,6 +89,7 @@ class TrainingRun {
   std::vector<int64_t> next_summary_, next_checkpoint_;  // per behavior
   std::vector<std::vector<float>> summary_returns_;       // per behavior
   std::vector<EpisodeStats> update_window_;               // per behavior: episodes since last row
+  std::vector<std::deque<float>> recent_returns_;         // per behavior
   double last_progress_ = -1;
   std::ostream* log_;
 };
