@@ -38,10 +38,15 @@ int bench_train(const CommandLine& cl) {
   if (cl.has("--json")) {
     std::cout << "{\"env_steps_per_s\":" << json_number(env_rate) << ",\"agent_steps_per_s\":"
               << json_number(agent_rate) << ",\"seconds\":" << json_number(r.seconds)
-              << ",\"agent_steps\":" << r.agent_steps << "}" << std::endl;
+              << ",\"agent_steps\":" << r.agent_steps << ",\"acting_s\":" << json_number(r.acting_seconds)
+              << ",\"env_s\":" << json_number(r.env_seconds)
+              << ",\"trajectory_s\":" << json_number(r.trajectory_seconds)
+              << ",\"update_s\":" << json_number(r.update_seconds) << "}" << std::endl;
   } else {
     std::cout << r.agent_steps << " agent steps in " << r.seconds << " s: " << env_rate
-              << " env steps/s, " << agent_rate << " agent steps/s" << std::endl;
+              << " env steps/s, " << agent_rate << " agent steps/s (acting " << r.acting_seconds
+              << " s, envs " << r.env_seconds << " s, trajectories " << r.trajectory_seconds
+              << " s, updates " << r.update_seconds << " s)" << std::endl;
   }
   return 0;
 }

@@ -1,6 +1,11 @@
 // A fixed pool of worker threads that runs `parallel_for` over contiguous chunks of an index range.
+//
+// Environment steps are short (microseconds for classic control), so a job must start and finish
+// with little latency: idle workers spin for a short while (about 50 us) watching for the next job
+// before they sleep on a condition variable, and the caller spins until its workers are done.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <exception>
 #include <functional>
@@ -26,15 +31,18 @@ class ThreadPool {
 
  private:
   void worker_loop(int worker);
+  void record_error(std::exception_ptr e);
 
   std::vector<std::thread> workers_;
-  std::mutex mutex_;
-  std::condition_variable start_cv_, done_cv_;
-  const std::function<void(int)>* job_ = nullptr;
+  const std::function<void(int)>* job_ = nullptr;  // written before generation_ is bumped
   int job_n_ = 0;
-  long generation_ = 0;
-  int pending_ = 0;
-  bool stop_ = false;
+  std::atomic<long> generation_{0};  // one increment per job
+  std::atomic<int> pending_{0};      // workers still running the current job
+  std::atomic<int> sleepers_{0};     // workers blocked on wake_
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::mutex error_mutex_;
   std::exception_ptr error_;
 };
 

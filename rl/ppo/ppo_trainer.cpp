@@ -38,8 +38,7 @@ PpoTrainer::PpoTrainer(const BehaviorSpec& spec, const BehaviorConfig& config, i
   shape.activation = config.network_settings.activation;
   shape.shared_critic = config.hyperparameters.shared_critic;
   net_ = PolicyNetwork(shape);
-  optimizer_ = std::make_unique<torch::optim::Adam>(
-      net_->parameters(), torch::optim::AdamOptions(config.hyperparameters.learning_rate).eps(1e-5));
+  optimizer_ = std::make_unique<FlatAdam>(net_->parameters());
 
   pending_.assign(rows, 0);
   trajectories_.resize(rows);
@@ -210,8 +209,6 @@ UpdateStats PpoTrainer::update() {
   stats.learning_rate = decayed(hp.learning_rate, 1e-10f, hp.learning_rate_schedule);
   stats.epsilon = decayed(hp.epsilon, 0.1f, hp.epsilon_schedule.value_or(hp.learning_rate_schedule));
   stats.beta = decayed(hp.beta, 1e-5f, hp.beta_schedule.value_or(hp.learning_rate_schedule));
-  for (auto& group : optimizer_->param_groups())
-    static_cast<torch::optim::AdamOptions&>(group.options()).lr(stats.learning_rate);
 
   // the buffer as tensors (no copy), observations normalized once
   const auto& s = spec_.action;
@@ -233,24 +230,28 @@ UpdateStats PpoTrainer::update() {
   const int64_t bs = hp.batch_size;
   const int64_t batches = n / bs;
   std::vector<int64_t> perm(n);
-  double sum_policy = 0, sum_value = 0, sum_entropy = 0;
+  auto loss_sums = torch::zeros({3});  // [policy, value, entropy] summed over minibatches
   for (int epoch = 0; epoch < hp.num_epoch; ++epoch) {
-    // Fisher-Yates with our own engine
+    // Fisher-Yates with our own engine, then one gather per tensor; minibatches are slices
     std::iota(perm.begin(), perm.end(), 0);
     for (int64_t i = n - 1; i > 0; --i) std::swap(perm[i], perm[int64_t(uniform01(rng_) * (i + 1))]);
-    auto perm_t = torch::from_blob(perm.data(), {n}, torch::kInt64);
+    auto idx = torch::from_blob(perm.data(), {n}, torch::kInt64);
+    auto e_obs = obs.index_select(0, idx);                                           // [N, D]
+    auto e_mask = s.mask_size() ? mask.index_select(0, idx) : torch::Tensor();       // [N, M]
+    auto e_cont = s.continuous_size ? cont.index_select(0, idx) : torch::Tensor();   // [N, C]
+    auto e_disc = s.num_branches() ? disc.index_select(0, idx) : torch::Tensor();    // [N, K]
+    auto e_old = torch::stack({old_log_prob, adv, old_value, returns}, 1).index_select(0, idx);  // [N, 4]
     for (int64_t b = 0; b < batches; ++b) {
-      auto idx = perm_t.narrow(0, b * bs, bs);
-      auto mb_obs = obs.index_select(0, idx);
+      auto slice = [&](const torch::Tensor& t) { return t.defined() ? t.narrow(0, b * bs, bs) : t; };
+      auto mb_obs = slice(e_obs);
+      auto mb_old = slice(e_old);
       auto out = net_->actor(mb_obs);
-      auto lp = evaluate_actions(s, out.mean, net_->log_std, out.logits,
-                                 s.mask_size() ? mask.index_select(0, idx) : torch::Tensor(),
-                                 s.continuous_size ? cont.index_select(0, idx) : torch::Tensor(),
-                                 s.num_branches() ? disc.index_select(0, idx) : torch::Tensor());
+      auto lp = evaluate_actions(s, out.mean, net_->log_std, out.logits, slice(e_mask), slice(e_cont),
+                                 slice(e_disc));
       auto value = net_->value(mb_obs, out.hidden);
-      PpoLoss l = ppo_loss(lp.log_prob, old_log_prob.index_select(0, idx), adv.index_select(0, idx),
-                           value, old_value.index_select(0, idx), returns.index_select(0, idx),
-                           lp.entropy, stats.epsilon, stats.beta, hp.value_loss_coef);
+      PpoLoss l = ppo_loss(lp.log_prob, mb_old.select(1, 0), mb_old.select(1, 1), value,
+                           mb_old.select(1, 2), mb_old.select(1, 3), lp.entropy, stats.epsilon,
+                           stats.beta, hp.value_loss_coef);
       const auto& loss = l.total;
       const float loss_value = loss.item<float>();
       if (!std::isfinite(loss_value)) {
@@ -262,17 +263,15 @@ UpdateStats PpoTrainer::update() {
       }
       optimizer_->zero_grad();
       loss.backward();
-      if (hp.max_grad_norm > 0) torch::nn::utils::clip_grad_norm_(net_->parameters(), hp.max_grad_norm);
-      optimizer_->step();
-      sum_policy += l.policy.item<float>();
-      sum_value += l.value.item<float>();
-      sum_entropy += l.entropy.item<float>();
+      if (hp.max_grad_norm > 0) optimizer_->clip_grad_norm(hp.max_grad_norm);
+      optimizer_->step(stats.learning_rate);
+      loss_sums += torch::stack({l.policy, l.value, l.entropy}).detach();
     }
   }
   const double count = std::max<int64_t>(1, batches * hp.num_epoch);
-  stats.policy_loss = float(sum_policy / count);
-  stats.value_loss = float(sum_value / count);
-  stats.entropy = float(sum_entropy / count);
+  stats.policy_loss = float(loss_sums[0].item<float>() / count);
+  stats.value_loss = float(loss_sums[1].item<float>() / count);
+  stats.entropy = float(loss_sums[2].item<float>() / count);
   buffer_.clear();
   ++updates_;
   actor_stale_ = true;
@@ -312,6 +311,7 @@ void PpoTrainer::load_weights(torch::serialize::InputArchive& a) {
   torch::serialize::InputArchive weights;
   a.read("weights", weights);
   net_->load(weights);
+  optimizer_->relink();  // loading replaced the parameters' storage
   normalizer_ = RunningNormalizer::deserialize(read_string(a, "normalizer"));
   if (normalizer_.size() != obs_size_)
     throw std::runtime_error("checkpoint normalizer of behavior " + spec_.name + " has size " +

@@ -24,6 +24,7 @@
 #include "rl/config/run_config.h"
 #include "rl/core/experience_buffer.h"
 #include "rl/core/fast_actor.h"
+#include "rl/core/flat_adam.h"
 #include "rl/core/policy_network.h"
 #include "rl/core/running_normalizer.h"
 #include "rl/env_api/step_buffers.h"
@@ -98,7 +99,7 @@ class PpoTrainer {
   int rows_ = 0, obs_size_ = 0;
 
   PolicyNetwork net_;
-  std::unique_ptr<torch::optim::Adam> optimizer_;
+  std::unique_ptr<FlatAdam> optimizer_;
   RunningNormalizer normalizer_;
   FastActor actor_;
   bool actor_stale_ = true;

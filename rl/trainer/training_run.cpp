@@ -163,11 +163,20 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
     return std::all_of(trainers_.begin(), trainers_.end(), [](auto& t) { return t->finished(); });
   };
   env_->reseed_and_reset(boundary_seed(boundary_index_));
+  using Clock = std::chrono::steady_clock;
+  auto seconds_since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
   while (!all_finished()) {
     // act, step, learn
+    auto t0 = Clock::now();
     for (int b = 0; b < nb; ++b) trainers_[b]->act(env_->buffers(b));
+    result.acting_seconds += seconds_since(t0);
+    t0 = Clock::now();
     env_->step();
+    result.env_seconds += seconds_since(t0);
     result.env_steps += env_->num_envs();
+    t0 = Clock::now();
     for (int b = 0; b < nb; ++b) {
       trainers_[b]->observe(env_->buffers(b));
       auto ep = trainers_[b]->take_episode_stats();
@@ -182,9 +191,15 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
       }
     }
     env_->take_finished_episodes();
+    result.trajectory_seconds += seconds_since(t0);
     for (int b = 0; b < nb; ++b) {
       auto& t = *trainers_[b];
-      if (!t.finished() && t.update_ready()) log_update(b, t.update());
+      if (!t.finished() && t.update_ready()) {
+        t0 = Clock::now();
+        UpdateStats stats = t.update();
+        result.update_seconds += seconds_since(t0);
+        log_update(b, stats);
+      }
       if (t.step() >= next_summary_[b]) {
         summarize(b);
         while (next_summary_[b] <= t.step()) next_summary_[b] += t.config().summary_freq;

@@ -44,6 +44,8 @@ struct TrainResult {
   int64_t env_steps = 0;    // vector-env steps x instances
   int64_t agent_steps = 0;  // decisions of all behaviors
   std::vector<float> last_returns;  // per behavior: mean return of the last summary window
+  // where the time went (seconds): choosing actions, stepping envs, building trajectories, updates
+  double acting_seconds = 0, env_seconds = 0, trajectory_seconds = 0, update_seconds = 0;
 };
 
 class TrainingRun {
