@@ -23,7 +23,7 @@ Options:
   --num-envs N           environment instances (default: env_settings.num_envs)
   --seed S               base seed; instance i uses S + i (default: env_settings.seed, else 0)
   --max-steps N          steps per behavior, overriding max_steps
-  --threads T            threads for environments and LibTorch (default: all cores)
+  --threads T            environment threads (default: all cores; the learner uses one)
 An existing run id without --resume or --force is an error that touches nothing.
 )";
 

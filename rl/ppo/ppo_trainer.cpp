@@ -8,7 +8,7 @@
 #include "rl/core/archive_io.h"
 #include "rl/core/bad_numbers.h"
 #include "rl/core/gae.h"
-#include "rl/ppo/ppo_loss.h"
+#include "rl/ppo/mlp_ppo_gradient.h"
 
 namespace rlt {
 
@@ -39,6 +39,7 @@ PpoTrainer::PpoTrainer(const BehaviorSpec& spec, const BehaviorConfig& config, i
   shape.shared_critic = config.hyperparameters.shared_critic;
   net_ = PolicyNetwork(shape);
   optimizer_ = std::make_unique<FlatAdam>(net_->parameters());
+  gradient_ = std::make_unique<MlpPpoGradient>(*net_);
 
   pending_.assign(rows, 0);
   trajectories_.resize(rows);
@@ -230,7 +231,7 @@ UpdateStats PpoTrainer::update() {
   const int64_t bs = hp.batch_size;
   const int64_t batches = n / bs;
   std::vector<int64_t> perm(n);
-  auto loss_sums = torch::zeros({3});  // [policy, value, entropy] summed over minibatches
+  double sum_policy = 0, sum_value = 0, sum_entropy = 0;
   for (int epoch = 0; epoch < hp.num_epoch; ++epoch) {
     // Fisher-Yates with our own engine, then one gather per tensor; minibatches are slices
     std::iota(perm.begin(), perm.end(), 0);
@@ -242,36 +243,33 @@ UpdateStats PpoTrainer::update() {
     auto e_disc = s.num_branches() ? disc.index_select(0, idx) : torch::Tensor();    // [N, K]
     auto e_old = torch::stack({old_log_prob, adv, old_value, returns}, 1).index_select(0, idx);  // [N, 4]
     for (int64_t b = 0; b < batches; ++b) {
-      auto slice = [&](const torch::Tensor& t) { return t.defined() ? t.narrow(0, b * bs, bs) : t; };
-      auto mb_obs = slice(e_obs);
-      auto mb_old = slice(e_old);
-      auto out = net_->actor(mb_obs);
-      auto lp = evaluate_actions(s, out.mean, net_->log_std, out.logits, slice(e_mask), slice(e_cont),
-                                 slice(e_disc));
-      auto value = net_->value(mb_obs, out.hidden);
-      PpoLoss l = ppo_loss(lp.log_prob, mb_old.select(1, 0), mb_old.select(1, 1), value,
-                           mb_old.select(1, 2), mb_old.select(1, 3), lp.entropy, stats.epsilon,
-                           stats.beta, hp.value_loss_coef);
-      const auto& loss = l.total;
-      const float loss_value = loss.item<float>();
-      if (!std::isfinite(loss_value)) {
+      MinibatchView mb;
+      mb.rows = bs;
+      mb.obs = e_obs.data_ptr<float>() + b * bs * obs_size_;
+      if (s.continuous_size) mb.continuous = e_cont.data_ptr<float>() + b * bs * s.continuous_size;
+      if (s.num_branches()) mb.discrete = e_disc.data_ptr<int64_t>() + b * bs * s.num_branches();
+      if (s.mask_size()) mb.mask = e_mask.data_ptr<float>() + b * bs * s.mask_size();
+      mb.old = e_old.data_ptr<float>() + b * bs * 4;
+
+      const LossValues l = gradient_->compute(mb, stats.epsilon, stats.beta, hp.value_loss_coef);
+      if (!std::isfinite(l.total)) {
         std::ostringstream os;
         os << "behavior " << spec_.name << ", update " << updates_ + 1 << ", step " << step_
-           << ": loss is " << loss_value << " (policy " << l.policy.item<float>() << ", value "
-           << l.value.item<float>() << ", entropy " << l.entropy.item<float>() << ")";
+           << ": loss is " << l.total << " (policy " << l.policy << ", value " << l.value
+           << ", entropy " << l.entropy << ")";
         throw BadNumberError(os.str());
       }
-      optimizer_->zero_grad();
-      loss.backward();
       if (hp.max_grad_norm > 0) optimizer_->clip_grad_norm(hp.max_grad_norm);
       optimizer_->step(stats.learning_rate);
-      loss_sums += torch::stack({l.policy, l.value, l.entropy}).detach();
+      sum_policy += l.policy;
+      sum_value += l.value;
+      sum_entropy += l.entropy;
     }
   }
   const double count = std::max<int64_t>(1, batches * hp.num_epoch);
-  stats.policy_loss = float(loss_sums[0].item<float>() / count);
-  stats.value_loss = float(loss_sums[1].item<float>() / count);
-  stats.entropy = float(loss_sums[2].item<float>() / count);
+  stats.policy_loss = float(sum_policy / count);
+  stats.value_loss = float(sum_value / count);
+  stats.entropy = float(sum_entropy / count);
   buffer_.clear();
   ++updates_;
   actor_stale_ = true;

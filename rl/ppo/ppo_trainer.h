@@ -11,6 +11,8 @@
 //   - values stored with an experience are computed when acting (CleanRL), not re-evaluated when
 //     the trajectory is processed;
 //   - optional global gradient-norm clipping (`max_grad_norm`, CleanRL), off by default.
+// The minibatch gradient is computed by MlpPpoGradient (hand-written backward in Eigen), checked in
+// tests against autograd through evaluate_actions() and ppo_loss().
 // A "step" is one decision of one agent of this behavior.
 #pragma once
 
@@ -27,6 +29,7 @@
 #include "rl/core/flat_adam.h"
 #include "rl/core/policy_network.h"
 #include "rl/core/running_normalizer.h"
+#include "rl/ppo/mlp_ppo_gradient.h"
 #include "rl/env_api/step_buffers.h"
 
 namespace rlt {
@@ -100,6 +103,7 @@ class PpoTrainer {
 
   PolicyNetwork net_;
   std::unique_ptr<FlatAdam> optimizer_;
+  std::unique_ptr<MlpPpoGradient> gradient_;  // minibatch loss and gradient (hand-written backward)
   RunningNormalizer normalizer_;
   FastActor actor_;
   bool actor_stale_ = true;

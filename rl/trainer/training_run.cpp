@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "rl/config/config_parser.h"
+#include "rl/core/allocator_tuning.h"
 #include "rl/core/archive_io.h"
 #include "rl/core/compute_threads.h"
 #include "rl/core/policy_export.h"
@@ -78,6 +79,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   seed_ = es.seed >= 0 ? uint64_t(es.seed) : 0;
   int threads = es.num_threads > 0 ? es.num_threads : int(std::max(1u, std::thread::hardware_concurrency()));
   set_compute_threads(1);
+  tune_allocator_for_training();
 
   // the environment and one trainer per behavior (all validation before anything is written)
   env_ = std::make_unique<VectorEnv>(es.env_id, es.num_envs, seed_, es.params, std::min(threads, es.num_envs));
