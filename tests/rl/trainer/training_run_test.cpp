@@ -230,6 +230,25 @@ TEST_F(TrainingRunTest, ExistingRunWithoutResumeOrForceTouchesNothing) {
   EXPECT_EQ(RunFolder(dir_.string(), "exists").read_status().checkpoints.size(), 0u);
 }
 
+TEST_F(TrainingRunTest, InitializeFromStartsWithTheOtherRunsWeightsAndFreshCounters) {
+  TrainingRun source(small_config("Pendulum", "Pendulum", 1500, 1000, true), options("source"));
+  source.train();
+  auto opt = options("target");
+  opt.initialize_from = "source";
+  TrainingRun target(small_config("Pendulum", "Pendulum", 1500, 1000, true), opt);
+  auto expected = parameters(source), actual = parameters(target);
+  for (size_t i = 0; i < expected.size(); ++i) EXPECT_TRUE(torch::equal(expected[i], actual[i])) << i;
+  EXPECT_EQ(target.trainer(0).step(), 0);
+  EXPECT_DOUBLE_EQ(target.trainer(0).normalizer()->count(), source.trainer(0).normalizer()->count());
+  // a fresh run with the same seed starts elsewhere
+  TrainingRun fresh(small_config("Pendulum", "Pendulum", 1500, 1000, true), options("fresh"));
+  EXPECT_FALSE(torch::equal(parameters(fresh)[0], expected[0]));
+  // a missing source run is an error
+  opt.run_id = "target2";
+  opt.initialize_from = "missing";
+  EXPECT_THROW(TrainingRun(small_config("Pendulum", "Pendulum", 1500, 1000, true), opt), std::runtime_error);
+}
+
 TEST_F(TrainingRunTest, UnknownBehaviorOrParameterIsAnErrorBeforeWriting) {
   EXPECT_THROW(TrainingRun(small_config("CartPole", "Cartpole", 600, 1000), options("bad")), std::invalid_argument);
   auto config = small_config("CartPole", "CartPole", 600, 1000);
