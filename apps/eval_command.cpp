@@ -4,6 +4,7 @@
 #include "apps/command_line.h"
 #include "apps/commands.h"
 #include "rl/core/json.h"
+#include "rl/curriculum/environment_parameter_manager.h"
 #include "rl/trainer/evaluation.h"
 #include "rl/trainer/saved_run.h"
 
@@ -33,7 +34,7 @@ int run_eval(const std::vector<std::string>& args) {
   SavedRun run = load_saved_run(cl.positional()[0]);
   const auto& es = run.config.env_settings;
   VectorEnv env(es.env_id, num_envs, seed, es.params, 1);
-  env.set_parameters(run.config.environment_parameters);
+  env.set_parameters(EnvironmentParameterManager(run.config.environment_parameters).sample(seed));
   std::vector<std::unique_ptr<BehaviorPolicy>> policies;
   for (size_t b = 0; b < run.trainers.size(); ++b) {
     auto& t = *run.trainers[b];

@@ -198,8 +198,9 @@ struct KeyHandler {
 
 // The settings of one behavior while default_settings and the behavior's own keys are layered.
 struct BehaviorDraft {
-  BehaviorConfig config;          // beta/epsilon schedules stay empty unless given explicitly
-  bool even_checkpoints = false;  // checkpoint_interval = max_steps / keep_checkpoints when set
+  BehaviorConfig config;           // beta/epsilon schedules stay empty unless given explicitly
+  bool even_checkpoints = false;   // checkpoint_interval = max_steps / keep_checkpoints when set
+  bool team_change_given = false;  // self_play.team_change set by a layer (else 5 * save_steps)
 };
 
 // Inclusive bounds of an integer setting.
@@ -324,11 +325,16 @@ class Parser {
   void parse_hyperparameters(const Val& value, Hyperparameters* hyper, Val* size_location) const;
   void parse_network_settings(const Val& value, NetworkSettings* network) const;
   void parse_reward_signals(const Val& value, RewardSignal* extrinsic) const;
+  void parse_self_play(const Val& value, BehaviorDraft* draft) const;
   BehaviorConfig finish_behavior(const BehaviorDraft& draft, const Val& size_location) const;
   void parse_env_settings(const std::optional<Val>& value, EnvSettings* env) const;
   void parse_checkpoint_settings(const Val& value, CheckpointSettings* checkpoint) const;
-  void parse_environment_parameters(const Val& value,
-                                    std::map<std::string, float>* parameters) const;
+  void parse_environment_parameters(
+      const Val& value, const RunConfig& config,
+      std::map<std::string, EnvironmentParameterSettings>* parameters) const;
+  SamplerSettings parse_sampler(const Val& value) const;
+  std::vector<Lesson> parse_curriculum(const Val& value, const RunConfig& config) const;
+  CompletionCriteria parse_completion_criteria(const Val& value, const RunConfig& config) const;
   void parse_torch_settings(const Val& value) const;
   void parse_engine_settings(const Val& value) const;
 
@@ -498,14 +504,7 @@ void Parser::parse_behavior(const Val& value, BehaviorDraft* draft, Val* size_lo
           {"summary_freq",
            [&](const Val& v) { config.summary_freq = read_int(v, kPositiveInt64); }},
           {"threaded", [&](const Val& v) { config.threaded = read_bool(v); }},
-          // EXTENSION POINT (self_play): parse the SelfPlaySettings keys here (save_steps,
-          // team_change, swap_steps, window, play_against_latest_model_ratio, initial_elo) into
-          // a BehaviorConfig field, and write them in emit_behavior(). Until then a non-null
-          // self_play is rejected.
-          {"self_play",
-           [&](const Val& v) {
-             if (!v.node.IsNull()) fail(v, "self_play is not supported yet");
-           }},
+          {"self_play", [&](const Val& v) { parse_self_play(v, draft); }},
           {"behavioral_cloning",
            [&](const Val& v) {
              if (!v.node.IsNull()) fail(v, "behavioral_cloning is not supported");
@@ -621,6 +620,41 @@ void Parser::parse_reward_signals(const Val& value, RewardSignal* extrinsic) con
            });
 }
 
+void Parser::parse_self_play(const Val& value, BehaviorDraft* draft) const {
+  std::optional<SelfPlaySettings>& self_play = draft->config.self_play;
+  if (value.node.IsNull()) {
+    // ML-Agents writes `self_play: null` for "no self-play"; it also switches off a self_play of
+    // default_settings, as in ML-Agents' merge.
+    self_play.reset();
+    draft->team_change_given = false;
+    return;
+  }
+  if (!value.node.IsMap()) fail_expected(value, "a mapping");
+  if (!self_play) {
+    self_play.emplace();
+    draft->team_change_given = false;
+  }
+  SelfPlaySettings& settings = *self_play;
+  dispatch(
+      value,
+      {
+          {"save_steps", [&](const Val& v) { settings.save_steps = read_int(v, kPositiveInt64); }},
+          {"team_change",
+           [&](const Val& v) {
+             settings.team_change = read_int(v, kPositiveInt64);
+             draft->team_change_given = true;
+           }},
+          {"swap_steps", [&](const Val& v) { settings.swap_steps = read_int(v, kPositiveInt64); }},
+          {"window", [&](const Val& v) { settings.window = read_int32(v, kPositiveInt); }},
+          {"play_against_latest_model_ratio",
+           [&](const Val& v) {
+             settings.play_against_latest_model_ratio =
+                 read_float(v, RealRange{0.0, false, 1.0, false});
+           }},
+          {"initial_elo", [&](const Val& v) { settings.initial_elo = read_real(v, kAnyReal); }},
+      });
+}
+
 BehaviorConfig Parser::finish_behavior(const BehaviorDraft& draft, const Val& size_location) const {
   BehaviorConfig config = draft.config;
   Hyperparameters& hyper = config.hyperparameters;
@@ -633,6 +667,10 @@ BehaviorConfig Parser::finish_behavior(const BehaviorDraft& draft, const Val& si
   if (!hyper.epsilon_schedule) hyper.epsilon_schedule = hyper.learning_rate_schedule;
   if (draft.even_checkpoints) {
     config.checkpoint_interval = std::max<int64_t>(1, config.max_steps / config.keep_checkpoints);
+  }
+  if (config.self_play && !draft.team_change_given) {  // ML-Agents: 5 * save_steps
+    const int64_t save_steps = config.self_play->save_steps;
+    config.self_play->team_change = save_steps > kInt64Max / 5 ? kInt64Max : 5 * save_steps;
   }
   return config;
 }
@@ -727,24 +765,226 @@ void Parser::parse_checkpoint_settings(const Val& value, CheckpointSettings* che
            });
 }
 
-void Parser::parse_environment_parameters(const Val& value,
-                                          std::map<std::string, float>* parameters) const {
+void Parser::parse_environment_parameters(
+    const Val& value, const RunConfig& config,
+    std::map<std::string, EnvironmentParameterSettings>* parameters) const {
   for_each_entry(value, [&](const std::string& name, const Val& v) {
-    // EXTENSION POINT (samplers and curricula): a mapping with sampler_type/sampler_parameters
-    // or with curriculum (a list of lessons) is ML-Agents' randomized or lesson-based parameter.
-    // Parse it here into a RunConfig field once the trainer supports it.
-    if (v.node.IsMap()) {
-      for (const char* key : {"sampler_type", "curriculum"}) {
+    EnvironmentParameterSettings& parameter = (*parameters)[name];
+    if (v.node.IsScalar()) {
+      parameter.sampler = SamplerSettings::constant(read_float(v, kAnyReal));
+      return;
+    }
+    if (!v.node.IsMap()) {
+      fail_expected(v,
+                    "a number, a sampler (sampler_type, sampler_parameters) or a curriculum "
+                    "(a list of lessons)");
+    }
+    // The keys of both forms first, so that a misspelled key gets a suggestion.
+    auto none = [](const Val&) {};
+    dispatch(v, {{"curriculum", none}, {"sampler_type", none}, {"sampler_parameters", none}});
+    if (const std::optional<Val> curriculum = find_entry(v, "curriculum")) {
+      for (const char* key : {"sampler_type", "sampler_parameters"}) {
         if (const std::optional<Val> entry = find_entry(v, key)) {
-          fail(*entry, std::string(key) == "curriculum"
-                           ? "curriculum is not supported yet (only constants: name: number)"
-                           : "sampler_type (parameter randomization) is not supported yet "
-                             "(only constants: name: number)");
+          fail(*entry,
+               std::string(key) + " does not go with curriculum: give each lesson its own value");
         }
       }
+      parameter.curriculum = parse_curriculum(*curriculum, config);
+    } else {
+      parameter.sampler = parse_sampler(v);
     }
-    (*parameters)[name] = read_float(v, kAnyReal);
   });
+}
+
+SamplerSettings Parser::parse_sampler(const Val& value) const {
+  if (value.node.IsScalar()) return SamplerSettings::constant(read_float(value, kAnyReal));
+  if (!value.node.IsMap()) {
+    fail_expected(value, "a number or a sampler (sampler_type, sampler_parameters)");
+  }
+  const std::string types = "uniform, gaussian, multirangeuniform or constant";
+  std::optional<Val> type_entry, parameters_entry;
+  dispatch(value, {{"sampler_type", [&](const Val& v) { type_entry = v; }},
+                   {"sampler_parameters", [&](const Val& v) { parameters_entry = v; }}});
+  if (!type_entry) {
+    fail(join_path(value.path, "sampler_type"), value.line, "missing: the sampler (" + types + ")");
+  }
+  SamplerSettings sampler;
+  sampler.type =
+      read_choice<SamplerType>(*type_entry, {{"uniform", SamplerType::kUniform},
+                                             {"gaussian", SamplerType::kGaussian},
+                                             {"multirangeuniform", SamplerType::kMultiRangeUniform},
+                                             {"constant", SamplerType::kConstant}});
+  if (!parameters_entry) {
+    fail(join_path(value.path, "sampler_parameters"), value.line,
+         "missing: the settings of the " + type_entry->node.Scalar() + " sampler");
+  }
+  const Val& parameters = *parameters_entry;
+  if (!parameters.node.IsMap()) fail_expected(parameters, "a mapping");
+  // ML-Agents' per-sampler seed: accepted and not used (draws come from the run's seeded engine).
+  const KeyHandler seed{"seed", [&](const Val& v) { read_int(v, IntRange{-1, kInt64Max}); }};
+  switch (sampler.type) {
+    case SamplerType::kConstant:
+      dispatch(parameters,
+               {{"value", [&](const Val& v) { sampler.value = read_float(v, kAnyReal); }}, seed});
+      break;
+    case SamplerType::kUniform:
+      dispatch(parameters,
+               {{"min_value", [&](const Val& v) { sampler.min_value = read_float(v, kAnyReal); }},
+                {"max_value", [&](const Val& v) { sampler.max_value = read_float(v, kAnyReal); }},
+                seed});
+      if (sampler.min_value > sampler.max_value) {
+        fail(parameters, "min_value (" + format_float(sampler.min_value, true) +
+                             ") must not be greater than max_value (" +
+                             format_float(sampler.max_value, true) + ")");
+      }
+      break;
+    case SamplerType::kGaussian:
+      dispatch(parameters,
+               {{"mean", [&](const Val& v) { sampler.mean = read_float(v, kAnyReal); }},
+                {"st_dev", [&](const Val& v) { sampler.st_dev = read_float(v, kNonNegativeReal); }},
+                seed});
+      break;
+    case SamplerType::kMultiRangeUniform:
+      dispatch(
+          parameters,
+          {{"intervals",
+            [&](const Val& v) {
+              const std::string expectation = "a non-empty list of intervals [min, max]";
+              if (!v.node.IsSequence() || v.node.size() == 0) {
+                fail_expected(v, expectation);
+              }
+              sampler.intervals.clear();
+              for (size_t i = 0; i < v.node.size(); ++i) {
+                const YAML::Node item = v.node[i];
+                const Val interval{item, v.path + "[" + std::to_string(i) + "]",
+                                   line_of(item) > 0 ? line_of(item) : v.line};
+                if (!item.IsSequence() || item.size() != 2) {
+                  fail_expected(interval, "an interval [min, max]");
+                }
+                std::array<float, 2> bounds{};
+                for (size_t j = 0; j < 2; ++j) {
+                  bounds[j] = read_float(
+                      Val{item[j], interval.path + "[" + std::to_string(j) + "]", interval.line},
+                      kAnyReal);
+                }
+                if (bounds[0] > bounds[1]) {
+                  fail(interval, "min (" + format_float(bounds[0], true) +
+                                     ") must not be greater than max (" +
+                                     format_float(bounds[1], true) + ")");
+                }
+                sampler.intervals.push_back(bounds);
+              }
+            }},
+           seed});
+      break;
+  }
+  return sampler;
+}
+
+std::vector<Lesson> Parser::parse_curriculum(const Val& value, const RunConfig& config) const {
+  if (!value.node.IsSequence() || value.node.size() == 0) {
+    fail_expected(value, "a non-empty list of lessons (name, value, completion_criteria)");
+  }
+  std::vector<Lesson> lessons;
+  std::vector<Val> locations;
+  for (size_t i = 0; i < value.node.size(); ++i) {
+    const YAML::Node item = value.node[i];
+    const Val entry{item, value.path + "[" + std::to_string(i) + "]",
+                    line_of(item) > 0 ? line_of(item) : value.line};
+    if (!item.IsMap())
+      fail_expected(entry, "a lesson (a mapping of name, value, completion_criteria)");
+    Lesson lesson;
+    bool has_name = false, has_value = false;
+    dispatch(entry, {
+                        {"name",
+                         [&](const Val& v) {
+                           lesson.name = read_string(v, false);
+                           if (lesson.name.empty()) fail(v, "must not be empty");
+                           has_name = true;
+                         }},
+                        {"value",
+                         [&](const Val& v) {
+                           lesson.value = parse_sampler(v);
+                           has_value = true;
+                         }},
+                        {"completion_criteria",
+                         [&](const Val& v) {
+                           if (!v.node.IsNull()) {
+                             lesson.completion_criteria = parse_completion_criteria(v, config);
+                           }
+                         }},
+                    });
+    if (!has_name) fail(join_path(entry.path, "name"), entry.line, "missing: the lesson's name");
+    if (!has_value) {
+      fail(join_path(entry.path, "value"), entry.line,
+           "missing: the parameter's value during the lesson (a number or a sampler)");
+    }
+    lessons.push_back(std::move(lesson));
+    locations.push_back(entry);
+  }
+  for (size_t i = 0; i + 1 < lessons.size(); ++i) {
+    if (!lessons[i].completion_criteria) {
+      fail(join_path(locations[i].path, "completion_criteria"), locations[i].line,
+           "missing: lesson '" + lessons[i].name +
+               "' is not the last lesson, so it needs a completion_criteria");
+    }
+  }
+  return lessons;
+}
+
+CompletionCriteria Parser::parse_completion_criteria(const Val& value,
+                                                     const RunConfig& config) const {
+  if (!value.node.IsMap()) fail_expected(value, "a mapping");
+  CompletionCriteria criteria;
+  bool has_behavior = false;
+  std::optional<Val> threshold;
+  dispatch(
+      value,
+      {
+          {"behavior",
+           [&](const Val& v) {
+             criteria.behavior = read_string(v, false);
+             if (criteria.behavior.empty()) fail(v, "must not be empty");
+             // Without default_settings only the listed behaviors are trained; with it, the
+             // environment may have behaviors the file does not list.
+             if (!config.default_settings && !config.behaviors.count(criteria.behavior)) {
+               std::vector<std::string> names;
+               for (const auto& [name, settings] : config.behaviors) names.push_back(name);
+               fail(v, "behavior '" + criteria.behavior + "' is not configured (configured: " +
+                           join_names(names) + ")" + did_you_mean(criteria.behavior, names));
+             }
+             has_behavior = true;
+           }},
+          {"measure",
+           [&](const Val& v) {
+             criteria.measure =
+                 read_choice<CompletionMeasure>(v, {{"reward", CompletionMeasure::kReward},
+                                                    {"progress", CompletionMeasure::kProgress}});
+           }},
+          {"min_lesson_length",
+           [&](const Val& v) {
+             criteria.min_lesson_length = read_int32(v, IntRange{0, kIntMax});
+           }},
+          {"signal_smoothing", [&](const Val& v) { criteria.signal_smoothing = read_bool(v); }},
+          {"threshold",
+           [&](const Val& v) {
+             criteria.threshold = read_real(v, kAnyReal);
+             threshold = v;
+           }},
+          {"require_reset", [&](const Val& v) { criteria.require_reset = read_bool(v); }},
+      });
+  if (!has_behavior) {
+    fail(join_path(value.path, "behavior"), value.line,
+         "missing: the behavior whose progress or reward completes the lesson");
+  }
+  if (threshold && criteria.measure == CompletionMeasure::kProgress &&
+      !in_range(criteria.threshold, RealRange{0.0, false, 1.0, false})) {
+    fail(*threshold,
+         "with measure: progress, expected a number in [0, 1] (a fraction of "
+         "max_steps), got " +
+             describe(threshold->node));
+  }
+  return criteria;
 }
 
 void Parser::parse_torch_settings(const Val& value) const {
@@ -796,6 +1036,10 @@ RunConfig Parser::parse(const YAML::Node& root) {
     parse_behavior(*defaults, &base, &layer_size_location);
     if (!layer_size_location.path.empty()) size_location = layer_size_location;
     config.default_settings = finish_behavior(base, size_location);
+    // Behaviors inherit the resolved self_play (team_change included), as ML-Agents merges the
+    // structured default_settings into each behavior.
+    base.config.self_play = config.default_settings->self_play;
+    base.team_change_given = base.config.self_play.has_value();
   }
   if (behaviors) {
     for_each_entry(*behaviors, [&](const std::string& name, const Val& v) {
@@ -816,7 +1060,9 @@ RunConfig Parser::parse(const YAML::Node& root) {
 
   parse_env_settings(env, &config.env_settings);
   if (checkpoint) parse_checkpoint_settings(*checkpoint, &config.checkpoint_settings);
-  if (parameters) parse_environment_parameters(*parameters, &config.environment_parameters);
+  if (parameters) {
+    parse_environment_parameters(*parameters, config, &config.environment_parameters);
+  }
   if (torch) parse_torch_settings(*torch);
   if (engine) parse_engine_settings(*engine);
   return config;
@@ -888,6 +1134,22 @@ void emit_behavior(YAML::Emitter& out, const BehaviorConfig& config) {
   out << YAML::Key << "time_horizon" << YAML::Value << config.time_horizon;
   out << YAML::Key << "summary_freq" << YAML::Value << static_cast<long long>(config.summary_freq);
   out << YAML::Key << "threaded" << YAML::Value << config.threaded;
+  out << YAML::Key << "self_play" << YAML::Value;
+  if (config.self_play) {
+    const SelfPlaySettings& self_play = *config.self_play;
+    out << YAML::BeginMap;
+    out << YAML::Key << "save_steps" << YAML::Value << static_cast<long long>(self_play.save_steps);
+    out << YAML::Key << "team_change" << YAML::Value
+        << static_cast<long long>(self_play.team_change);
+    out << YAML::Key << "swap_steps" << YAML::Value << static_cast<long long>(self_play.swap_steps);
+    out << YAML::Key << "window" << YAML::Value << self_play.window;
+    out << YAML::Key << "play_against_latest_model_ratio" << YAML::Value;
+    emit_float(out, self_play.play_against_latest_model_ratio);
+    out << YAML::Key << "initial_elo" << YAML::Value << format_float(self_play.initial_elo, false);
+    out << YAML::EndMap;
+  } else {
+    out << YAML::Null;
+  }
   out << YAML::EndMap;
 }
 
@@ -902,6 +1164,100 @@ void emit_float_map(YAML::Emitter& out, const std::map<std::string, float>& valu
     emit_string(out, name);
     out << YAML::Value;
     emit_float(out, value);
+  }
+  out << YAML::EndMap;
+}
+
+const char* sampler_type_name(SamplerType type) {
+  switch (type) {
+    case SamplerType::kConstant:
+      return "constant";
+    case SamplerType::kUniform:
+      return "uniform";
+    case SamplerType::kGaussian:
+      return "gaussian";
+    case SamplerType::kMultiRangeUniform:
+      return "multirangeuniform";
+  }
+  return "constant";
+}
+
+// A constant as a plain number, any other sampler as {sampler_type, sampler_parameters}.
+void emit_sampler(YAML::Emitter& out, const SamplerSettings& sampler) {
+  if (sampler.type == SamplerType::kConstant) {
+    emit_float(out, sampler.value);
+    return;
+  }
+  out << YAML::BeginMap;
+  out << YAML::Key << "sampler_type" << YAML::Value << sampler_type_name(sampler.type);
+  out << YAML::Key << "sampler_parameters" << YAML::Value << YAML::BeginMap;
+  switch (sampler.type) {
+    case SamplerType::kConstant:
+      break;
+    case SamplerType::kUniform:
+      out << YAML::Key << "min_value" << YAML::Value;
+      emit_float(out, sampler.min_value);
+      out << YAML::Key << "max_value" << YAML::Value;
+      emit_float(out, sampler.max_value);
+      break;
+    case SamplerType::kGaussian:
+      out << YAML::Key << "mean" << YAML::Value;
+      emit_float(out, sampler.mean);
+      out << YAML::Key << "st_dev" << YAML::Value;
+      emit_float(out, sampler.st_dev);
+      break;
+    case SamplerType::kMultiRangeUniform:
+      out << YAML::Key << "intervals" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (const std::array<float, 2>& interval : sampler.intervals) {
+        out << YAML::Flow << YAML::BeginSeq;
+        emit_float(out, interval[0]);
+        emit_float(out, interval[1]);
+        out << YAML::EndSeq;
+      }
+      out << YAML::EndSeq;
+      break;
+  }
+  out << YAML::EndMap << YAML::EndMap;
+}
+
+void emit_environment_parameters(
+    YAML::Emitter& out, const std::map<std::string, EnvironmentParameterSettings>& parameters) {
+  if (parameters.empty()) {
+    out << YAML::Flow << YAML::BeginMap << YAML::EndMap;
+    return;
+  }
+  out << YAML::BeginMap;
+  for (const auto& [name, parameter] : parameters) {
+    out << YAML::Key;
+    emit_string(out, name);
+    out << YAML::Value;
+    if (!parameter.is_curriculum()) {
+      emit_sampler(out, parameter.sampler);
+      continue;
+    }
+    out << YAML::BeginMap << YAML::Key << "curriculum" << YAML::Value << YAML::BeginSeq;
+    for (const Lesson& lesson : parameter.curriculum) {
+      out << YAML::BeginMap;
+      out << YAML::Key << "name" << YAML::Value;
+      emit_string(out, lesson.name);
+      out << YAML::Key << "value" << YAML::Value;
+      emit_sampler(out, lesson.value);
+      if (lesson.completion_criteria) {
+        const CompletionCriteria& criteria = *lesson.completion_criteria;
+        out << YAML::Key << "completion_criteria" << YAML::Value << YAML::BeginMap;
+        out << YAML::Key << "behavior" << YAML::Value;
+        emit_string(out, criteria.behavior);
+        out << YAML::Key << "measure" << YAML::Value
+            << (criteria.measure == CompletionMeasure::kReward ? "reward" : "progress");
+        out << YAML::Key << "min_lesson_length" << YAML::Value << criteria.min_lesson_length;
+        out << YAML::Key << "signal_smoothing" << YAML::Value << criteria.signal_smoothing;
+        out << YAML::Key << "threshold" << YAML::Value << format_float(criteria.threshold, false);
+        out << YAML::Key << "require_reset" << YAML::Value << criteria.require_reset;
+        out << YAML::EndMap;
+      }
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq << YAML::EndMap;
   }
   out << YAML::EndMap;
 }
@@ -1002,7 +1358,7 @@ std::string run_config_to_yaml(const RunConfig& config) {
   out << YAML::EndMap;
 
   out << YAML::Key << "environment_parameters" << YAML::Value;
-  emit_float_map(out, config.environment_parameters);
+  emit_environment_parameters(out, config.environment_parameters);
 
   out << YAML::Key << "torch_settings" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "device" << YAML::Value << "cpu";

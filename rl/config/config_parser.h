@@ -20,27 +20,41 @@
 //   ML-Agents. `behaviors` holds the merged result; `default_settings` is kept for behaviors the
 //   file does not list (see behavior_config()).
 // - Resolved: beta_schedule and epsilon_schedule are filled from learning_rate_schedule when not
-//   given; `even_checkpoints: true` sets checkpoint_interval to max_steps / keep_checkpoints.
+//   given; `even_checkpoints: true` sets checkpoint_interval to max_steps / keep_checkpoints;
+//   self_play.team_change is 5 * save_steps when not given (ML-Agents' default).
+// - self_play: a mapping of SelfPlaySettings keys (an empty one takes ML-Agents' defaults);
+//   `self_play: null` means no self-play, also over a self_play of default_settings (ML-Agents'
+//   merge), and a behavior's self_play keys override those of default_settings key by key.
+// - environment_parameters: each entry is a constant (`gravity: 9.8`), a sampler
+//   (`{sampler_type: uniform|gaussian|multirangeuniform|constant, sampler_parameters: {...}}`) or
+//   a curriculum (`{curriculum: [{name, value, completion_criteria}, ...]}`, a lesson's value a
+//   constant or a sampler), as in ML-Agents. Checked: sampler_parameters keys per sampler,
+//   min_value <= max_value, st_dev >= 0, intervals [min, max] with min <= max, non-empty
+//   curricula, a completion_criteria on every lesson but the last (one on the last lesson is
+//   kept and never used), completion_criteria.behavior one of `behaviors` (any non-empty name
+//   when default_settings is given), measure reward|progress, a progress threshold in [0, 1],
+//   min_lesson_length >= 0. List items appear in key paths as `curriculum[1]`.
 // - Accepted and ignored (there is no Unity engine or player here): engine_settings.{width,
 //   height, quality_level, time_scale, target_frame_rate, capture_frame_rate, no_graphics};
 //   env_settings.{env_args, base_port, num_areas, timeout_wait, max_lifetime_restarts,
 //   restarts_rate_limit_n, restarts_rate_limit_period_s}; env_settings.env_path: null;
 //   checkpoint_settings.train_model; checkpoint_settings.{load_model, inference}: false;
 //   network_settings.goal_conditioning_type (hyper|none); network_settings.memory: null;
-//   reward_signals.extrinsic.network_settings (any mapping); self_play: null;
-//   behavioral_cloning: null; torch_settings.device: cpu or null; debug (bool).
-//   A null section (`network_settings:` with nothing after it) means "not given".
+//   reward_signals.extrinsic.network_settings (any mapping); behavioral_cloning: null;
+//   torch_settings.device: cpu or null; debug (bool); sampler_parameters.seed (ML-Agents' seed of
+//   one sampler: draws come from the run's seeded engine instead).
+//   A null section (`network_settings:` with nothing after it) means "not given" (self_play:
+//   null excepted, see above).
 // - Rejected with a ConfigError: unknown keys (with a did-you-mean suggestion), wrong types
 //   (quoted strings where numbers or booleans are expected; a non-integral number where an
 //   integer is expected, though integral values such as `5.0e5` are accepted as ML-Agents does),
 //   out-of-range values, trainer_type other than ppo|poca, network_settings.memory (LSTM),
-//   reward signals other than extrinsic (curiosity, gail, rnd), behavioral_cloning, self_play
-//   (not supported yet), env_settings.env_path (a Unity binary; use env_id), a missing env_id,
-//   environment_parameters given as samplers (sampler_type) or curricula (not supported yet),
-//   torch_settings.device other than cpu, checkpoint_settings.load_model: true (use resume) and
-//   inference: true (use `rlt eval`), buffer_size < batch_size (ML-Agents only warns; a
-//   buffer_size that is not a multiple of batch_size is accepted), a missing or empty file, YAML
-//   syntax errors, and a file with neither `behaviors` nor `default_settings`.
+//   reward signals other than extrinsic (curiosity, gail, rnd), behavioral_cloning,
+//   env_settings.env_path (a Unity binary; use env_id), a missing env_id, bad samplers and
+//   curricula (see above), torch_settings.device other than cpu, checkpoint_settings.load_model:
+//   true (use resume) and inference: true (use `rlt eval`), buffer_size < batch_size (ML-Agents
+//   only warns; a buffer_size that is not a multiple of batch_size is accepted), a missing or
+//   empty file, YAML syntax errors, and a file with neither `behaviors` nor `default_settings`.
 // - Not checked here: whether env_id is a registered environment (the env registry does that).
 #pragma once
 

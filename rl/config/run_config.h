@@ -5,10 +5,12 @@
 // and rejects unknown keys, wrong types and out-of-range values with the file and key path.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rlt {
@@ -47,6 +49,25 @@ struct RewardSignal {
   float strength = 1.0f;  // scale applied to the env reward
 };
 
+// Self-play (ML-Agents' ghost trainer): the behavior plays against snapshots of its own policy.
+struct SelfPlaySettings {
+  int64_t save_steps = 20000;    // trainer steps between snapshots added to the pool
+  int64_t team_change = 100000;  // trainer steps before the learning team changes; ML-Agents'
+                                 // default is 5 * save_steps (filled in when not given)
+  int64_t swap_steps = 2000;     // ghost steps between swaps of the opponent snapshot
+  int window = 10;               // snapshots kept in the pool
+  float play_against_latest_model_ratio = 0.5f;  // probability of facing the current policy
+  double initial_elo = 1200.0;                   // ELO rating at the start of training
+
+  bool operator==(const SelfPlaySettings& o) const {
+    return save_steps == o.save_steps && team_change == o.team_change &&
+           swap_steps == o.swap_steps && window == o.window &&
+           play_against_latest_model_ratio == o.play_against_latest_model_ratio &&
+           initial_elo == o.initial_elo;
+  }
+  bool operator!=(const SelfPlaySettings& o) const { return !(*this == o); }
+};
+
 struct BehaviorConfig {
   std::string trainer_type = "ppo";
   Hyperparameters hyperparameters;
@@ -59,6 +80,7 @@ struct BehaviorConfig {
   int time_horizon = 64;                // experiences per agent before a trajectory is cut (bootstrap)
   int64_t summary_freq = 50000;         // steps between summary lines
   bool threaded = false;                // accepted for compatibility; has no effect
+  std::optional<SelfPlaySettings> self_play;  // none: ordinary training
 };
 
 struct EnvSettings {
@@ -77,13 +99,126 @@ struct CheckpointSettings {
   std::string results_dir = "results";
 };
 
+// How an environment parameter's value is drawn at an environment reset (ML-Agents'
+// ParameterRandomizationSettings). Only the fields of `type` are meaningful; each carries
+// ML-Agents' default.
+enum class SamplerType { kConstant, kUniform, kGaussian, kMultiRangeUniform };
+
+struct SamplerSettings {
+  SamplerType type = SamplerType::kConstant;
+  float value = 0.f;      // constant
+  float min_value = 0.f;  // uniform in [min_value, max_value]
+  float max_value = 1.f;
+  float mean = 1.f;  // gaussian
+  float st_dev = 1.f;
+  // multirangeuniform: an interval [a, b] is picked with probability proportional to b - a, then
+  // a value uniformly inside it
+  std::vector<std::array<float, 2>> intervals = {{0.f, 1.f}};
+
+  static SamplerSettings constant(float value) {
+    SamplerSettings s;
+    s.value = value;
+    return s;
+  }
+  static SamplerSettings uniform(float min_value, float max_value) {
+    SamplerSettings s;
+    s.type = SamplerType::kUniform;
+    s.min_value = min_value;
+    s.max_value = max_value;
+    return s;
+  }
+  static SamplerSettings gaussian(float mean, float st_dev) {
+    SamplerSettings s;
+    s.type = SamplerType::kGaussian;
+    s.mean = mean;
+    s.st_dev = st_dev;
+    return s;
+  }
+  static SamplerSettings multi_range_uniform(std::vector<std::array<float, 2>> intervals) {
+    SamplerSettings s;
+    s.type = SamplerType::kMultiRangeUniform;
+    s.intervals = std::move(intervals);
+    return s;
+  }
+
+  // Compares the type and the fields of that type.
+  bool operator==(const SamplerSettings& o) const {
+    if (type != o.type) return false;
+    switch (type) {
+      case SamplerType::kConstant:
+        return value == o.value;
+      case SamplerType::kUniform:
+        return min_value == o.min_value && max_value == o.max_value;
+      case SamplerType::kGaussian:
+        return mean == o.mean && st_dev == o.st_dev;
+      case SamplerType::kMultiRangeUniform:
+        return intervals == o.intervals;
+    }
+    return false;
+  }
+  bool operator!=(const SamplerSettings& o) const { return !(*this == o); }
+};
+
+enum class CompletionMeasure { kReward, kProgress };
+
+// When a lesson is complete (ML-Agents' CompletionCriteriaSettings).
+struct CompletionCriteria {
+  std::string behavior;  // the behavior whose progress or rewards are measured (required)
+  // reward: mean episode reward of the behavior since the lesson began; progress: steps / max_steps
+  CompletionMeasure measure = CompletionMeasure::kReward;
+  int min_lesson_length = 0;     // episodes of `behavior` recorded before the lesson may end
+  bool signal_smoothing = true;  // reward: 0.25 * previous smoothed value + 0.75 * mean
+  double threshold = 0.0;        // the measure must exceed it; progress: in [0, 1]
+  bool require_reset = false;    // reset every environment as soon as the lesson ends
+
+  bool operator==(const CompletionCriteria& o) const {
+    return behavior == o.behavior && measure == o.measure &&
+           min_lesson_length == o.min_lesson_length && signal_smoothing == o.signal_smoothing &&
+           threshold == o.threshold && require_reset == o.require_reset;
+  }
+  bool operator!=(const CompletionCriteria& o) const { return !(*this == o); }
+};
+
+struct Lesson {
+  std::string name;
+  SamplerSettings value;
+  // Required on every lesson but the last; on the last lesson it is accepted and never used.
+  std::optional<CompletionCriteria> completion_criteria;
+
+  bool operator==(const Lesson& o) const {
+    return name == o.name && value == o.value && completion_criteria == o.completion_criteria;
+  }
+  bool operator!=(const Lesson& o) const { return !(*this == o); }
+};
+
+// One entry of `environment_parameters`: a sampler (a constant is the plain `name: 3.0`), or a
+// curriculum of lessons, each with its own sampler.
+struct EnvironmentParameterSettings {
+  SamplerSettings sampler;         // the value when `curriculum` is empty
+  std::vector<Lesson> curriculum;  // non-empty: lesson-based; `sampler` is unused
+
+  EnvironmentParameterSettings() = default;
+  // A constant, as `name: 3.0` in the YAML; implicit so that `parameters["x"] = 3` reads naturally.
+  EnvironmentParameterSettings(float constant)  // NOLINT(runtime/explicit)
+      : sampler(SamplerSettings::constant(constant)) {}
+
+  bool is_curriculum() const { return !curriculum.empty(); }
+
+  bool operator==(const EnvironmentParameterSettings& o) const {
+    return curriculum == o.curriculum && (is_curriculum() || sampler == o.sampler);
+  }
+  bool operator!=(const EnvironmentParameterSettings& o) const { return !(*this == o); }
+};
+
 struct RunConfig {
   std::string source_file;                      // the YAML file it came from
   std::map<std::string, BehaviorConfig> behaviors;
   std::optional<BehaviorConfig> default_settings;
   EnvSettings env_settings;
   CheckpointSettings checkpoint_settings;
-  std::map<std::string, float> environment_parameters;  // constants applied at every reset
+  // ML-Agents' environment_parameters: values applied at every environment reset, constants,
+  // samplers or curricula (rl/curriculum/environment_parameter_manager.h applies them)
+  std::map<std::string, EnvironmentParameterSettings> environment_parameters;
 };
 
 }  // namespace rlt

@@ -17,6 +17,7 @@
 #include "rl/core/archive_io.h"
 #include "rl/core/compute_threads.h"
 #include "rl/core/policy_export.h"
+#include "rl/curriculum/environment_parameter_manager.h"
 
 namespace fs = std::filesystem;
 
@@ -83,7 +84,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
 
   // the environment and one trainer per behavior (all validation before anything is written)
   env_ = std::make_unique<VectorEnv>(es.env_id, es.num_envs, seed_, es.params, std::min(threads, es.num_envs));
-  env_->set_parameters(config_.environment_parameters);
+  env_->set_parameters(EnvironmentParameterManager(config_.environment_parameters).sample(seed_));
   const EnvSpec& spec = env_->spec();
   for (const auto& [name, b] : config_.behaviors)
     if (spec.behavior_index(name) < 0) {

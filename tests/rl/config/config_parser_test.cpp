@@ -86,6 +86,7 @@ void expect_same(const BehaviorConfig& a, const BehaviorConfig& b) {
   EXPECT_EQ(a.time_horizon, b.time_horizon);
   EXPECT_EQ(a.summary_freq, b.summary_freq);
   EXPECT_EQ(a.threaded, b.threaded);
+  EXPECT_EQ(a.self_play, b.self_play);
 }
 
 // Every field except source_file.
@@ -240,7 +241,9 @@ TEST(ConfigParserTest, ReadsMlAgents3DBallConfig) {
   EXPECT_EQ(config.checkpoint_settings.results_dir, "out/results");
   EXPECT_TRUE(config.checkpoint_settings.force);
   EXPECT_EQ(config.environment_parameters,
-            (std::map<std::string, float>{{"mass", 1.5f}, {"scale", 2.0f}}));
+            (std::map<std::string, EnvironmentParameterSettings>{{"mass", 1.5f}, {"scale", 2.0f}}));
+  EXPECT_EQ(config.environment_parameters.at("mass").sampler.type, SamplerType::kConstant);
+  EXPECT_FALSE(config.environment_parameters.at("mass").is_curriculum());
 }
 
 // The configuration.yaml that mlagents-learn writes into its results folder spells out every
@@ -369,6 +372,376 @@ TEST(ConfigParserTest, EvenCheckpointsSpreadsCheckpointsOverMaxSteps) {
     keep_checkpoints: 4
 )"));
   EXPECT_EQ(config.behaviors.at("CartPole").checkpoint_interval, 250000);
+}
+
+// ---------------------------------------------------------------------------------------------
+// self_play.
+
+TEST(ConfigParserTest, SelfPlayWithMlAgentsDefaults) {
+  const RunConfig config = parse(cartpole_with("    self_play:\n      window: 12\n"));
+  const BehaviorConfig& cartpole = config.behaviors.at("CartPole");
+  ASSERT_TRUE(cartpole.self_play.has_value());
+  const SelfPlaySettings& self_play = *cartpole.self_play;
+  EXPECT_EQ(self_play.window, 12);
+  EXPECT_EQ(self_play.save_steps, 20000);
+  EXPECT_EQ(self_play.team_change, 100000);
+  EXPECT_EQ(self_play.swap_steps, 2000);
+  EXPECT_EQ(self_play.play_against_latest_model_ratio, 0.5f);
+  EXPECT_EQ(self_play.initial_elo, 1200.0);
+  // An empty mapping turns self-play on with every default; null or no key leaves it off.
+  EXPECT_EQ(parse(cartpole_with("    self_play: {}\n")).behaviors.at("CartPole").self_play,
+            SelfPlaySettings{});
+  EXPECT_FALSE(parse(cartpole_with("    self_play:\n")).behaviors.at("CartPole").self_play);
+  EXPECT_FALSE(parse(cartpole_with("")).behaviors.at("CartPole").self_play);
+}
+
+TEST(ConfigParserTest, SelfPlayMlAgentsSoccerStyle) {
+  const RunConfig config = parse(cartpole_with(R"(    self_play:
+      save_steps: 50000
+      team_change: 200000
+      swap_steps: 2000
+      window: 10
+      play_against_latest_model_ratio: 0.5
+      initial_elo: 1200.0
+)"));
+  const SelfPlaySettings& self_play = *config.behaviors.at("CartPole").self_play;
+  EXPECT_EQ(self_play.save_steps, 50000);
+  EXPECT_EQ(self_play.team_change, 200000);
+}
+
+TEST(ConfigParserTest, SelfPlayTeamChangeFollowsSaveSteps) {
+  // ML-Agents' team_change default is 5 * save_steps.
+  EXPECT_EQ(parse(cartpole_with("    self_play:\n      save_steps: 3000\n"))
+                .behaviors.at("CartPole")
+                .self_play->team_change,
+            15000);
+  EXPECT_EQ(parse(cartpole_with("    self_play:\n      save_steps: 3000\n      team_change: 7\n"))
+                .behaviors.at("CartPole")
+                .self_play->team_change,
+            7);
+}
+
+TEST(ConfigParserTest, SelfPlayMergesWithDefaultSettings) {
+  const RunConfig config = parse(R"(default_settings:
+  self_play:
+    save_steps: 1000
+    window: 4
+behaviors:
+  Striker:
+    self_play:
+      window: 6
+      save_steps: 9
+  Goalie:
+  Referee:
+    self_play: null
+env_settings:
+  env_id: Soccer
+)");
+  EXPECT_EQ(config.default_settings->self_play->team_change, 5000);
+  const SelfPlaySettings& striker = *config.behaviors.at("Striker").self_play;
+  EXPECT_EQ(striker.window, 6);
+  EXPECT_EQ(striker.save_steps, 9);
+  EXPECT_EQ(striker.team_change, 5000);  // resolved in default_settings, as ML-Agents merges
+  EXPECT_EQ(config.behaviors.at("Goalie").self_play, config.default_settings->self_play);
+  EXPECT_FALSE(config.behaviors.at("Referee").self_play.has_value());  // switched off
+}
+
+TEST(ConfigParserErrorTest, SelfPlayErrors) {
+  expect_error(cartpole_with("    self_play:\n      window: 0\n"),
+               "behaviors.CartPole.self_play.window", 4, "expected a positive integer, got '0'");
+  expect_error(cartpole_with("    self_play:\n      save_steps: -5\n"),
+               "behaviors.CartPole.self_play.save_steps", 4, "expected a positive integer");
+  expect_error(cartpole_with("    self_play:\n      swap_steps: 2.5\n"),
+               "behaviors.CartPole.self_play.swap_steps", 4, "expected a positive integer");
+  expect_error(cartpole_with("    self_play:\n      team_change: 0\n"),
+               "behaviors.CartPole.self_play.team_change", 4, "expected a positive integer");
+  expect_error(cartpole_with("    self_play:\n      play_against_latest_model_ratio: 1.5\n"),
+               "behaviors.CartPole.self_play.play_against_latest_model_ratio", 4,
+               "expected a number in [0, 1], got '1.5'");
+  expect_error(cartpole_with("    self_play:\n      initial_elo: high\n"),
+               "behaviors.CartPole.self_play.initial_elo", 4, "expected a finite number");
+  expect_error(cartpole_with("    self_play:\n      windw: 3\n"), "behaviors.CartPole.self_play", 4,
+               "unknown key 'windw' (did you mean 'window'?)");
+  expect_error(cartpole_with("    self_play: true\n"), "behaviors.CartPole.self_play", 3,
+               "expected a mapping, got 'true'");
+  expect_error("default_settings:\n  self_play:\n    window: -1\n",
+               "default_settings.self_play.window", 3, "expected a positive integer");
+}
+
+// ---------------------------------------------------------------------------------------------
+// environment_parameters: samplers and curricula.
+
+// In the shape of ML-Agents' config/ppo/WallJump_curriculum.yaml (two behaviors, progress-based
+// lessons whose values are samplers or constants), with a reward-measured parameter added.
+const char* const kWallJumpCurriculum = R"(behaviors:
+  BigWallJump:
+    trainer_type: ppo
+    max_steps: 20000000
+  SmallWallJump:
+    trainer_type: ppo
+    max_steps: 5000000
+env_settings:
+  env_id: WallJump
+environment_parameters:
+  big_wall_height:
+    curriculum:
+      - name: Lesson0 # the '-' starts a lesson
+        completion_criteria:
+          measure: progress
+          behavior: BigWallJump
+          signal_smoothing: true
+          min_lesson_length: 100
+          threshold: 0.1
+        value:
+          sampler_type: uniform
+          sampler_parameters:
+            min_value: 0.0
+            max_value: 4.0
+      - name: Lesson1
+        completion_criteria:
+          measure: progress
+          behavior: BigWallJump
+          signal_smoothing: true
+          min_lesson_length: 100
+          threshold: 0.3
+        value:
+          sampler_type: uniform
+          sampler_parameters:
+            min_value: 4.0
+            max_value: 7.0
+      - name: Lesson2
+        value: 8.0
+  small_wall_height:
+    curriculum:
+      - name: Lesson0
+        completion_criteria:
+          behavior: SmallWallJump
+          threshold: 0.7
+          require_reset: true
+        value: 1.5
+      - name: Lesson1
+        value: 4.0
+  gravity:
+    sampler_type: gaussian
+    sampler_parameters:
+      mean: 9.8
+      st_dev: 0.5
+  block_offset:
+    sampler_type: multirangeuniform
+    sampler_parameters:
+      intervals: [[-2.0, -1.0], [1.0, 2.0]]
+  friction:
+    sampler_type: constant
+    sampler_parameters:
+      value: 0.25
+      seed: 1337
+  goal_size: 3
+)";
+
+TEST(ConfigParserTest, ReadsMlAgentsWallJumpCurriculum) {
+  const RunConfig config = parse(kWallJumpCurriculum);
+  const auto& parameters = config.environment_parameters;
+  ASSERT_EQ(parameters.size(), 6u);
+
+  const EnvironmentParameterSettings& big = parameters.at("big_wall_height");
+  ASSERT_TRUE(big.is_curriculum());
+  ASSERT_EQ(big.curriculum.size(), 3u);
+  EXPECT_EQ(big.curriculum[0].name, "Lesson0");
+  EXPECT_EQ(big.curriculum[0].value, SamplerSettings::uniform(0.f, 4.f));
+  ASSERT_TRUE(big.curriculum[0].completion_criteria.has_value());
+  const CompletionCriteria& first = *big.curriculum[0].completion_criteria;
+  EXPECT_EQ(first.measure, CompletionMeasure::kProgress);
+  EXPECT_EQ(first.behavior, "BigWallJump");
+  EXPECT_TRUE(first.signal_smoothing);
+  EXPECT_EQ(first.min_lesson_length, 100);
+  EXPECT_EQ(first.threshold, 0.1);
+  EXPECT_FALSE(first.require_reset);
+  EXPECT_EQ(big.curriculum[1].value, SamplerSettings::uniform(4.f, 7.f));
+  EXPECT_EQ(big.curriculum[1].completion_criteria->threshold, 0.3);
+  EXPECT_EQ(big.curriculum[2].name, "Lesson2");
+  EXPECT_EQ(big.curriculum[2].value, SamplerSettings::constant(8.f));
+  EXPECT_FALSE(big.curriculum[2].completion_criteria.has_value());
+
+  // ML-Agents' completion_criteria defaults.
+  const CompletionCriteria& small =
+      *parameters.at("small_wall_height").curriculum[0].completion_criteria;
+  EXPECT_EQ(small.measure, CompletionMeasure::kReward);
+  EXPECT_EQ(small.min_lesson_length, 0);
+  EXPECT_TRUE(small.signal_smoothing);
+  EXPECT_TRUE(small.require_reset);
+  EXPECT_EQ(small.threshold, 0.7);
+
+  EXPECT_EQ(parameters.at("gravity").sampler, SamplerSettings::gaussian(9.8f, 0.5f));
+  EXPECT_FALSE(parameters.at("gravity").is_curriculum());
+  EXPECT_EQ(parameters.at("block_offset").sampler,
+            SamplerSettings::multi_range_uniform({{-2.f, -1.f}, {1.f, 2.f}}));
+  EXPECT_EQ(parameters.at("friction").sampler, SamplerSettings::constant(0.25f));
+  EXPECT_EQ(parameters.at("goal_size"), EnvironmentParameterSettings(3.f));
+}
+
+TEST(ConfigParserTest, SamplerDefaultsAreMlAgents) {
+  const RunConfig config = parse(cartpole_with("") + R"(environment_parameters:
+  u: {sampler_type: uniform, sampler_parameters: {}}
+  g: {sampler_type: gaussian, sampler_parameters: {}}
+  m: {sampler_type: multirangeuniform, sampler_parameters: {}}
+  c: {sampler_type: constant, sampler_parameters: {}}
+)");
+  const auto& parameters = config.environment_parameters;
+  EXPECT_EQ(parameters.at("u").sampler, SamplerSettings::uniform(0.f, 1.f));
+  EXPECT_EQ(parameters.at("g").sampler, SamplerSettings::gaussian(1.f, 1.f));
+  EXPECT_EQ(parameters.at("m").sampler, SamplerSettings::multi_range_uniform({{0.f, 1.f}}));
+  EXPECT_EQ(parameters.at("c").sampler, SamplerSettings::constant(0.f));
+}
+
+TEST(ConfigParserTest, CurriculumBehaviorMayComeFromDefaultSettings) {
+  const RunConfig config = parse(R"(default_settings:
+  max_steps: 100
+env_settings:
+  env_id: WallJump
+environment_parameters:
+  height:
+    curriculum:
+      - {name: Low, value: 1, completion_criteria: {behavior: AnyBehavior, threshold: 0.5}}
+      - {name: High, value: 2, completion_criteria: {behavior: AnyBehavior}}
+)");
+  const auto& lessons = config.environment_parameters.at("height").curriculum;
+  ASSERT_EQ(lessons.size(), 2u);
+  EXPECT_EQ(lessons[0].completion_criteria->behavior, "AnyBehavior");
+  // A completion_criteria on the last lesson is accepted (ML-Agents warns) and kept.
+  EXPECT_TRUE(lessons[1].completion_criteria.has_value());
+}
+
+// `block` (lines from 6 on) as the environment_parameters of a CartPole config.
+std::string with_parameters(const std::string& block) {
+  return cartpole_with("") + "environment_parameters:\n" + block;
+}
+
+// A two-lesson curriculum of parameter `h` with `criteria` (lines from 11 on) as the first
+// lesson's completion_criteria.
+std::string with_criteria(const std::string& criteria) {
+  return with_parameters(R"(  h:
+    curriculum:
+      - name: A
+        value: 1
+        completion_criteria:
+)" + criteria + R"(      - name: B
+        value: 2
+)");
+}
+
+TEST(ConfigParserErrorTest, CompletionCriteriaErrors) {
+  const std::string path = "environment_parameters.h.curriculum[0].completion_criteria";
+  expect_error(with_criteria("          behavior: CartPol\n"), path + ".behavior", 11,
+               "behavior 'CartPol' is not configured (configured: CartPole) (did you mean "
+               "'CartPole'?)");
+  expect_error(with_criteria("          behavior: \"\"\n"), path + ".behavior", 11,
+               "must not be empty");
+  expect_error(with_criteria("          threshold: 0.5\n"), path + ".behavior", 10,
+               "missing: the behavior");
+  expect_error(with_criteria("          behavior: CartPole\n          measure: rewrd\n"),
+               path + ".measure", 12,
+               "expected one of reward, progress, got 'rewrd' (did you "
+               "mean 'reward'?)");
+  expect_error(with_criteria("          behavior: CartPole\n          threshold: 1.5\n"
+                             "          measure: progress\n"),
+               path + ".threshold", 12, "with measure: progress, expected a number in [0, 1]");
+  expect_error(with_criteria("          behavior: CartPole\n          min_lesson_length: -1\n"),
+               path + ".min_lesson_length", 12, "expected a non-negative integer");
+  expect_error(with_criteria("          behavior: CartPole\n          signal_smoothing: 1\n"),
+               path + ".signal_smoothing", 12, "expected true or false");
+  expect_error(with_criteria("          behavior: CartPole\n          treshold: 1\n"), path, 12,
+               "unknown key 'treshold' (did you mean 'threshold'?)");
+  expect_error(
+      with_parameters("  h:\n    curriculum:\n      - name: A\n        value: 1\n"
+                      "        completion_criteria: 5\n      - name: B\n        value: 2\n"),
+      path, 10, "expected a mapping, got '5'");
+  // A reward threshold may be any number.
+  EXPECT_EQ(parse(with_criteria("          behavior: CartPole\n          threshold: -3\n"))
+                .environment_parameters.at("h")
+                .curriculum[0]
+                .completion_criteria->threshold,
+            -3.0);
+}
+
+TEST(ConfigParserErrorTest, CurriculumErrors) {
+  expect_error(with_parameters("  h:\n    curriculum: []\n"), "environment_parameters.h.curriculum",
+               7, "expected a non-empty list of lessons");
+  expect_error(with_parameters("  h:\n    curriculum:\n"), "environment_parameters.h.curriculum", 7,
+               "expected a non-empty list of lessons");
+  // Every lesson but the last needs a completion_criteria.
+  expect_error(with_parameters("  h:\n    curriculum:\n      - name: A\n        value: 1\n"
+                               "      - name: B\n        value: 2\n"),
+               "environment_parameters.h.curriculum[0].completion_criteria", 8,
+               "missing: lesson 'A' is not the last lesson, so it needs a completion_criteria");
+  expect_error(with_parameters("  h:\n    curriculum:\n      - name: A\n        value: 1\n"
+                               "        completion_criteria: null\n"
+                               "      - name: B\n        value: 2\n"),
+               "environment_parameters.h.curriculum[0].completion_criteria", 8, "lesson 'A'");
+  expect_error(with_parameters("  h:\n    curriculum:\n      - value: 1\n"),
+               "environment_parameters.h.curriculum[0].name", 8, "missing: the lesson's name");
+  expect_error(with_parameters("  h:\n    curriculum:\n      - name: A\n"),
+               "environment_parameters.h.curriculum[0].value", 8, "missing: the parameter's value");
+  expect_error(with_parameters("  h:\n    curriculum:\n      - name: A\n        value: 1\n"
+                               "      - 5\n"),
+               "environment_parameters.h.curriculum[1]", 10, "expected a lesson");
+  expect_error(with_parameters("  h:\n    curriculum:\n      - name: A\n        valu: 1\n"),
+               "environment_parameters.h.curriculum[0]", 9,
+               "unknown key 'valu' (did you mean 'value'?)");
+  expect_error(with_parameters("  h:\n    curriculum:\n      - name: A\n        value: [1]\n"),
+               "environment_parameters.h.curriculum[0].value", 9,
+               "expected a number or a sampler (sampler_type, sampler_parameters), got a list");
+  expect_error(with_parameters("  h:\n    curriculum:\n      - name: A\n        value: 1\n"
+                               "    sampler_type: uniform\n"),
+               "environment_parameters.h.sampler_type", 10, "does not go with curriculum");
+  expect_error(with_parameters("  h:\n    curiculum: []\n"), "environment_parameters.h", 7,
+               "unknown key 'curiculum' (did you mean 'curriculum'?)");
+}
+
+TEST(ConfigParserErrorTest, SamplerErrors) {
+  const std::string p = "environment_parameters.m";
+  expect_error(with_parameters("  m:\n    sampler_type: uniform\n    sampler_parameters:\n"
+                               "      min_value: 5\n      max_value: 1\n"),
+               p + ".sampler_parameters", 8,
+               "min_value (5.0) must not be greater than max_value (1.0)");
+  expect_error(with_parameters("  m:\n    sampler_type: uniform\n    sampler_parameters:\n"
+                               "      min_value: 2\n"),
+               p + ".sampler_parameters", 8, "min_value (2.0) must not be greater than max_value");
+  expect_error(with_parameters("  m:\n    sampler_type: gaussian\n    sampler_parameters:\n"
+                               "      mean: 0\n      st_dev: -1\n"),
+               p + ".sampler_parameters.st_dev", 10, "expected a number >= 0, got '-1'");
+  expect_error(with_parameters("  m:\n    sampler_type: multirangeuniform\n"
+                               "    sampler_parameters:\n      intervals: [[0, 1], [3, 2]]\n"),
+               p + ".sampler_parameters.intervals[1]", 9, "min (3.0) must not be greater than max");
+  expect_error(with_parameters("  m:\n    sampler_type: multirangeuniform\n"
+                               "    sampler_parameters:\n      intervals: [[0, 1, 2]]\n"),
+               p + ".sampler_parameters.intervals[0]", 9, "expected an interval [min, max]");
+  expect_error(with_parameters("  m:\n    sampler_type: multirangeuniform\n"
+                               "    sampler_parameters:\n      intervals: []\n"),
+               p + ".sampler_parameters.intervals", 9, "expected a non-empty list of intervals");
+  expect_error(with_parameters("  m:\n    sampler_type: multirangeuniform\n"
+                               "    sampler_parameters:\n      intervals: [[0, x]]\n"),
+               p + ".sampler_parameters.intervals[0][1]", 9, "expected a finite number, got 'x'");
+  expect_error(with_parameters("  m:\n    sampler_type: normal\n    sampler_parameters: {}\n"),
+               p + ".sampler_type", 7,
+               "expected one of uniform, gaussian, multirangeuniform, constant, got 'normal'");
+  expect_error(with_parameters("  m:\n    sampler_type: uniform\n"), p + ".sampler_parameters", 6,
+               "missing: the settings of the uniform sampler");
+  expect_error(with_parameters("  m:\n    sampler_parameters: {}\n"), p + ".sampler_type", 6,
+               "missing: the sampler");
+  expect_error(with_parameters("  m:\n    sampler_type: uniform\n    sampler_parameters: null\n"),
+               p + ".sampler_parameters", 8, "expected a mapping, got null");
+  expect_error(with_parameters("  m:\n    sampler_type: uniform\n    sampler_parameters:\n"
+                               "      min: 0\n"),
+               p + ".sampler_parameters", 9, "unknown key 'min'");
+  expect_error(with_parameters("  m:\n    sampler_type: gaussian\n    sampler_parameters:\n"
+                               "      min_value: 0\n"),
+               p + ".sampler_parameters", 9, "unknown key 'min_value'");
+  expect_error(with_parameters("  m:\n    value: 3\n"), p, 7,
+               "unknown key 'value' (expected one of: curriculum, sampler_type, "
+               "sampler_parameters)");
+  expect_error(with_parameters("  m: [1, 2]\n"), p, 6,
+               "expected a number, a sampler (sampler_type, sampler_parameters) or a curriculum");
+  expect_error(with_parameters("  m:\n"), p, 6, "expected a number, a sampler");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -678,10 +1051,6 @@ TEST(ConfigParserErrorTest, UnsupportedBehaviorFeatures) {
   }
   expect_error(cartpole_with("    behavioral_cloning:\n      demo_path: x.demo\n"),
                "behaviors.CartPole.behavioral_cloning", 3, "behavioral_cloning is not supported");
-  expect_error(cartpole_with("    self_play:\n      window: 10\n"), "behaviors.CartPole.self_play",
-               3, "self_play is not supported yet");
-  expect_error("default_settings:\n  self_play:\n    window: 10\n", "default_settings.self_play", 2,
-               "self_play is not supported yet");
 }
 
 TEST(ConfigParserErrorTest, UnsupportedRunSettings) {
@@ -689,15 +1058,6 @@ TEST(ConfigParserErrorTest, UnsupportedRunSettings) {
                "env_settings.env_path", 4,
                "ML-Agents' env_path (a Unity build) is not supported: name a registered "
                "environment with env_settings.env_id");
-  expect_error(cartpole_with("") + "environment_parameters:\n  mass:\n    sampler_type: uniform\n",
-               "environment_parameters.mass.sampler_type", 7, "sampler_type");
-  expect_error(cartpole_with("") + "environment_parameters:\n  mass:\n    sampler_type: uniform\n",
-               "environment_parameters.mass.sampler_type", 7, "is not supported yet");
-  expect_error(
-      cartpole_with("") + "environment_parameters:\n  mass:\n    curriculum:\n      - name: one\n",
-      "environment_parameters.mass.curriculum", 7, "curriculum is not supported yet");
-  expect_error(cartpole_with("") + "environment_parameters:\n  mass:\n    value: 3\n",
-               "environment_parameters.mass", 6, "expected a finite number, got a mapping");
   expect_error(cartpole_with("") + "torch_settings:\n  device: cuda\n", "torch_settings.device", 6,
                "only 'cpu' is supported, got 'cuda'");
   expect_error(cartpole_with("") + "checkpoint_settings:\n  load_model: true\n",
@@ -868,6 +1228,7 @@ TEST(ConfigWriterTest, RoundTripOfAnMlAgentsConfig) {
                           "time_horizon:",
                           "summary_freq:",
                           "threaded:",
+                          "self_play:",
                           "env_id:",
                           "num_envs:",
                           "seed:",
@@ -922,6 +1283,37 @@ checkpoint_settings:
   EXPECT_EQ(again.checkpoint_settings.initialize_from, "yes");
   EXPECT_EQ(again.default_settings->checkpoint_interval, 200);  // resolved from even_checkpoints
   EXPECT_EQ(run_config_to_yaml(again), yaml);
+}
+
+TEST(ConfigWriterTest, RoundTripOfSelfPlayAndCurricula) {
+  RunConfig config = parse(kWallJumpCurriculum);
+  SelfPlaySettings self_play;
+  self_play.save_steps = 123;
+  self_play.team_change = 7;
+  self_play.play_against_latest_model_ratio = 0.1f + 0.2f;
+  self_play.initial_elo = 1000.0 / 3.0;
+  config.behaviors.at("BigWallJump").self_play = self_play;
+  // A one-lesson curriculum is not a plain sampler; a lesson named like its parameter neither.
+  Lesson only;
+  only.name = "solo";
+  only.value = SamplerSettings::gaussian(0.1f, 1e-7f);
+  config.environment_parameters["solo"].curriculum = {only};
+  only.name = "same";
+  config.environment_parameters["same"].curriculum = {only};
+  config.environment_parameters["big_wall_height"].curriculum[0].completion_criteria->threshold =
+      1.0 / 3.0;
+
+  const std::string yaml = run_config_to_yaml(config);
+  const RunConfig again = load_run_config_from_string(yaml, "resolved.yaml");
+  expect_same(config, again);
+  EXPECT_EQ(again.behaviors.at("BigWallJump").self_play, self_play);
+  EXPECT_FALSE(again.behaviors.at("SmallWallJump").self_play.has_value());
+  EXPECT_EQ(run_config_to_yaml(again), yaml);
+  for (const char* key : {"sampler_type: uniform", "sampler_type: multirangeuniform",
+                          "curriculum:", "completion_criteria:", "require_reset: true",
+                          "team_change: 7", "goal_size: 3.0"}) {
+    EXPECT_NE(yaml.find(key), std::string::npos) << key << " missing from\n" << yaml;
+  }
 }
 
 TEST(ConfigWriterTest, EnumNames) {

@@ -1,0 +1,292 @@
+// Environment parameters over training: sampling, lesson advances and the saved state.
+#include "rl/curriculum/environment_parameter_manager.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <utility>
+
+#include "rl/env_api/uniform_random.h"
+
+namespace rlt {
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+
+// A standard normal draw by the Box-Muller transform: two uniform draws, the cosine branch.
+double standard_normal(std::mt19937_64& rng) {
+  const double u1 = 1.0 - uniform01(rng);  // in (0, 1]: log stays finite
+  const double u2 = uniform01(rng);
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(kTwoPi * u2);
+}
+
+// Interval i with probability proportional to its length, then uniform inside it (one draw).
+// All intervals of length 0: one of them uniformly (one draw), at its point.
+double multi_range_uniform(std::mt19937_64& rng, const std::vector<std::array<float, 2>>& ranges) {
+  if (ranges.empty()) return 0.0;
+  double total = 0.0;
+  for (const auto& range : ranges) total += double(range[1]) - double(range[0]);
+  if (!(total > 0.0)) return ranges[uniform_int(rng, int(ranges.size()))][0];
+  double offset = uniform01(rng) * total;
+  size_t pick = ranges.size();
+  for (size_t i = 0; i < ranges.size(); ++i) {
+    const double length = double(ranges[i][1]) - double(ranges[i][0]);
+    if (length <= 0.0) continue;
+    pick = i;  // the last interval with a length takes what rounding leaves over
+    if (offset < length) break;
+    offset -= length;
+  }
+  return std::min(double(ranges[pick][1]), double(ranges[pick][0]) + offset);
+}
+
+float draw(const SamplerSettings& sampler, std::mt19937_64& rng) {
+  switch (sampler.type) {
+    case SamplerType::kConstant:
+      return sampler.value;
+    case SamplerType::kUniform:
+      return float(uniform(rng, sampler.min_value, sampler.max_value));
+    case SamplerType::kGaussian:
+      return float(double(sampler.mean) + double(sampler.st_dev) * standard_normal(rng));
+    case SamplerType::kMultiRangeUniform:
+      return float(multi_range_uniform(rng, sampler.intervals));
+  }
+  return sampler.value;
+}
+
+// Shortest decimal text that reads back to exactly `value` (finite values only).
+std::string number_text(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  return std::string(buffer, result.ptr);
+}
+
+std::string json_quote(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char escape[8];
+      std::snprintf(escape, sizeof(escape), "\\u%04x", c);
+      out += escape;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+[[noreturn]] void bad_state(const std::string& problem) {
+  throw std::runtime_error("environment parameter state: " + problem);
+}
+
+double read_number(const YAML::Node& node, const std::string& what) {
+  if (!node.IsScalar()) bad_state(what + ": expected a number");
+  const std::string& text = node.Scalar();
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) {
+    bad_state(what + ": expected a finite number, got '" + text + "'");
+  }
+  return value;
+}
+
+}  // namespace
+
+EnvironmentParameterManager::EnvironmentParameterManager(
+    std::map<std::string, EnvironmentParameterSettings> settings)
+    : settings_(std::move(settings)) {
+  for (const auto& [name, parameter] : settings_) {
+    if (!parameter.is_curriculum()) continue;
+    state_[name] = ParameterState{};
+    for (const Lesson& lesson : parameter.curriculum) {
+      if (!lesson.completion_criteria) continue;
+      const CompletionCriteria& criteria = *lesson.completion_criteria;
+      int& capacity = capacity_[criteria.behavior];
+      capacity = std::max({capacity, 1, criteria.min_lesson_length});
+      rewards_[criteria.behavior];
+    }
+  }
+}
+
+Parameters EnvironmentParameterManager::sample(std::mt19937_64& rng) const {
+  Parameters values;
+  for (const auto& [name, parameter] : settings_) {
+    const SamplerSettings& sampler = parameter.is_curriculum()
+                                         ? parameter.curriculum[state_.at(name).lesson].value
+                                         : parameter.sampler;
+    values[name] = draw(sampler, rng);
+  }
+  return values;
+}
+
+Parameters EnvironmentParameterManager::sample(uint64_t seed) const {
+  std::mt19937_64 rng(seed);
+  return sample(rng);
+}
+
+std::map<std::string, int> EnvironmentParameterManager::lessons() const {
+  std::map<std::string, int> result;
+  for (const auto& [name, state] : state_) result[name] = state.lesson;
+  return result;
+}
+
+std::map<std::string, std::string> EnvironmentParameterManager::lesson_names() const {
+  std::map<std::string, std::string> result;
+  for (const auto& [name, state] : state_) {
+    result[name] = settings_.at(name).curriculum[state.lesson].name;
+  }
+  return result;
+}
+
+void EnvironmentParameterManager::add_episode_reward(const std::string& behavior, double reward) {
+  const auto capacity = capacity_.find(behavior);
+  if (capacity == capacity_.end() || !std::isfinite(reward)) return;
+  std::deque<double>& buffer = rewards_[behavior];
+  buffer.push_back(reward);
+  while (int(buffer.size()) > capacity->second) buffer.pop_front();
+}
+
+std::vector<double> EnvironmentParameterManager::reward_buffer(const std::string& behavior) const {
+  const auto found = rewards_.find(behavior);
+  if (found == rewards_.end()) return {};
+  return std::vector<double>(found->second.begin(), found->second.end());
+}
+
+int EnvironmentParameterManager::reward_buffer_capacity(const std::string& behavior) const {
+  const auto found = capacity_.find(behavior);
+  return found == capacity_.end() ? 0 : found->second;
+}
+
+double EnvironmentParameterManager::smoothed_value(const std::string& parameter) const {
+  const auto found = state_.find(parameter);
+  return found == state_.end() ? 0.0 : found->second.smoothed;
+}
+
+LessonUpdate EnvironmentParameterManager::update(
+    const std::map<std::string, BehaviorProgress>& progress) {
+  LessonUpdate result;
+  for (auto& [name, state] : state_) {
+    const std::vector<Lesson>& lessons = settings_.at(name).curriculum;
+    if (state.lesson + 1 >= int(lessons.size())) continue;  // the last lesson never ends
+    const Lesson& lesson = lessons[state.lesson];
+    if (!lesson.completion_criteria) continue;
+    const CompletionCriteria& criteria = *lesson.completion_criteria;
+    const auto behavior = progress.find(criteria.behavior);
+    if (behavior == progress.end()) continue;
+    const std::deque<double>& rewards = rewards_.at(criteria.behavior);
+    if (int(rewards.size()) < criteria.min_lesson_length) continue;
+
+    bool complete = false;
+    if (criteria.measure == CompletionMeasure::kProgress) {
+      const BehaviorProgress& p = behavior->second;
+      const double fraction = p.max_steps > 0 ? double(p.steps) / double(p.max_steps) : 0.0;
+      complete = fraction > criteria.threshold;
+    } else {
+      if (rewards.empty()) continue;
+      double measure = 0.0;
+      for (const double reward : rewards) measure += reward;
+      measure /= double(rewards.size());
+      if (criteria.signal_smoothing) {
+        measure = 0.25 * state.smoothed + 0.75 * measure;
+        state.smoothed = measure;
+      }
+      complete = measure > criteria.threshold;
+    }
+    if (complete) {
+      ++state.lesson;
+      result.changed = true;
+      if (criteria.require_reset) result.require_reset = true;
+    }
+  }
+  if (result.changed) {
+    for (auto& [behavior, rewards] : rewards_) rewards.clear();
+  }
+  return result;
+}
+
+std::string EnvironmentParameterManager::serialize() const {
+  std::string text = "{\"parameters\": {";
+  bool first = true;
+  for (const auto& [name, state] : state_) {
+    text += (first ? "" : ", ") + json_quote(name) +
+            ": {\"lesson\": " + std::to_string(state.lesson) +
+            ", \"lesson_name\": " + json_quote(settings_.at(name).curriculum[state.lesson].name) +
+            ", \"smoothed_value\": " + number_text(state.smoothed) + "}";
+    first = false;
+  }
+  text += "}, \"reward_buffers\": {";
+  first = true;
+  for (const auto& [behavior, rewards] : rewards_) {
+    text += (first ? "" : ", ") + json_quote(behavior) + ": [";
+    for (size_t i = 0; i < rewards.size(); ++i) {
+      text += (i == 0 ? "" : ", ") + number_text(rewards[i]);
+    }
+    text += "]";
+    first = false;
+  }
+  return text + "}}";
+}
+
+void EnvironmentParameterManager::deserialize(const std::string& state) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(state);
+  } catch (const YAML::Exception& error) {
+    bad_state(std::string("cannot read it: ") + error.what());
+  }
+  if (!root.IsMap()) bad_state("expected a mapping with parameters and reward_buffers");
+
+  std::map<std::string, ParameterState> states;
+  for (const auto& [name, unused] : state_) states[name] = ParameterState{};
+  const YAML::Node parameters = root["parameters"];
+  if (parameters && !parameters.IsNull()) {
+    if (!parameters.IsMap()) bad_state("parameters: expected a mapping");
+    for (const auto& entry : parameters) {
+      const std::string name = entry.first.Scalar();
+      const auto found = states.find(name);
+      if (found == states.end()) continue;  // no longer a curriculum parameter
+      const YAML::Node values = entry.second;
+      if (!values.IsMap()) bad_state("parameters." + name + ": expected a mapping");
+      const int lesson_count = int(settings_.at(name).curriculum.size());
+      const double lesson = read_number(values["lesson"], "parameters." + name + ".lesson");
+      if (lesson != std::floor(lesson) || lesson < 0 || lesson >= lesson_count) {
+        bad_state("parameters." + name + ".lesson: lesson " + number_text(lesson) +
+                  " does not exist (the curriculum has " + std::to_string(lesson_count) +
+                  " lessons)");
+      }
+      found->second.lesson = int(lesson);
+      if (values["smoothed_value"]) {
+        found->second.smoothed =
+            read_number(values["smoothed_value"], "parameters." + name + ".smoothed_value");
+      }
+    }
+  }
+
+  std::map<std::string, std::deque<double>> rewards;
+  for (const auto& [behavior, unused] : capacity_) rewards[behavior];
+  const YAML::Node buffers = root["reward_buffers"];
+  if (buffers && !buffers.IsNull()) {
+    if (!buffers.IsMap()) bad_state("reward_buffers: expected a mapping");
+    for (const auto& entry : buffers) {
+      const std::string behavior = entry.first.Scalar();
+      const auto found = rewards.find(behavior);
+      if (found == rewards.end()) continue;  // no completion_criteria measures it any more
+      if (!entry.second.IsSequence()) bad_state("reward_buffers." + behavior + ": expected a list");
+      for (const auto& reward : entry.second) {
+        found->second.push_back(read_number(reward, "reward_buffers." + behavior));
+      }
+      while (int(found->second.size()) > capacity_.at(behavior)) found->second.pop_front();
+    }
+  }
+  state_ = std::move(states);
+  rewards_ = std::move(rewards);
+}
+
+}  // namespace rlt

@@ -1,0 +1,107 @@
+// The values of the environment parameters during training: samplers drawn at each environment
+// reset, and curricula whose lessons advance when their completion criteria are met.
+//
+// Follows ML-Agents' EnvironmentParameterManager
+// (mlagents/trainers/environment_parameter_manager.py) together with the reward buffers its
+// trainers keep for it:
+// - Every parameter starts at its first lesson. A plain sampler is a parameter without lessons.
+// - The manager keeps, per behavior named by some completion_criteria, the total environment
+//   reward of that behavior's most recent episodes: at most max(1, largest min_lesson_length of
+//   the criteria naming the behavior) of them, the oldest dropped first.
+// - update() looks at every curriculum parameter that is not at its last lesson: a lesson whose
+//   behavior has recorded fewer than min_lesson_length episodes goes on. Otherwise measure
+//   `progress` ends it when steps / max_steps > threshold; measure `reward` computes the mean of
+//   the buffer (no episode yet: goes on), replaces it by 0.25 * previous smoothed value + 0.75 *
+//   mean when signal_smoothing is on (and keeps that as the new smoothed value), and ends the
+//   lesson when the result > threshold. A parameter moves at most one lesson per update(). When
+//   any parameter moved, every reward buffer is cleared. Smoothed values persist across lessons
+//   (they start at 0), as in ML-Agents.
+// - serialize() / deserialize() carry the lessons, the smoothed values and the reward buffers over
+//   --resume exactly.
+//
+// No LibTorch here. Not thread-safe: one thread drives a manager.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "rl/config/run_config.h"
+#include "rl/env_api/spec.h"
+
+namespace rlt {
+
+// What the manager needs to know of one behavior's trainer at an update.
+struct BehaviorProgress {
+  int64_t steps = 0;      // the behavior's steps so far
+  int64_t max_steps = 1;  // its max_steps; progress = steps / max_steps
+};
+
+// The outcome of one update().
+struct LessonUpdate {
+  bool changed = false;        // at least one parameter moved to its next lesson
+  bool require_reset = false;  // ... and the completed lesson asked to reset the environments now
+};
+
+class EnvironmentParameterManager {
+ public:
+  EnvironmentParameterManager() = default;
+  explicit EnvironmentParameterManager(
+      std::map<std::string, EnvironmentParameterSettings> settings);
+
+  const std::map<std::string, EnvironmentParameterSettings>& settings() const { return settings_; }
+  bool empty() const { return settings_.empty(); }
+
+  // The value of every parameter for one environment reset: constants as they are, samplers drawn
+  // from `rng` (in the order of the parameter names; a constant takes no draw, a uniform or
+  // multirangeuniform sampler one, a gaussian two). The same engine state gives the same values
+  // with every standard library.
+  Parameters sample(std::mt19937_64& rng) const;
+  // Same with an engine seeded with `seed`.
+  Parameters sample(uint64_t seed) const;
+
+  // The current lesson of each curriculum parameter (0 = first), and its name.
+  std::map<std::string, int> lessons() const;
+  std::map<std::string, std::string> lesson_names() const;
+
+  // Records the total environment reward of one finished episode of `behavior` (ML-Agents'
+  // trainer.reward_buffer). Ignored when no completion_criteria names the behavior, and when the
+  // reward is not finite.
+  void add_episode_reward(const std::string& behavior, double reward);
+  // The rewards recorded for `behavior` since the last lesson change, oldest first, and how many
+  // are kept at most (0 when no completion_criteria names the behavior).
+  std::vector<double> reward_buffer(const std::string& behavior) const;
+  int reward_buffer_capacity(const std::string& behavior) const;
+  // The smoothed reward measure of a curriculum parameter (0 before its first reward measure).
+  double smoothed_value(const std::string& parameter) const;
+
+  // Advances the lessons whose completion criteria are met (see the top of the file). A behavior
+  // missing from `progress` has no trainer yet: the lessons that measure it go on.
+  LessonUpdate update(const std::map<std::string, BehaviorProgress>& progress);
+
+  // The state (lessons, smoothed values, reward buffers) as one JSON object, with every number
+  // written so that it reads back bit for bit. Also valid YAML.
+  std::string serialize() const;
+  // Restores a state that serialize() wrote (given as JSON, or as YAML of the same shape) for the
+  // same settings. Parameters the state does not have start at their first lesson; entries of
+  // parameters or behaviors the settings do not have are ignored. Throws std::runtime_error when
+  // the text is malformed or a lesson does not exist in the settings; the manager is then
+  // unchanged.
+  void deserialize(const std::string& state);
+
+ private:
+  struct ParameterState {
+    int lesson = 0;
+    double smoothed = 0.0;
+  };
+
+  std::map<std::string, EnvironmentParameterSettings> settings_;
+  std::map<std::string, ParameterState> state_;        // curriculum parameters only
+  std::map<std::string, int> capacity_;                // reward buffer size per measured behavior
+  std::map<std::string, std::deque<double>> rewards_;  // per measured behavior, oldest first
+};
+
+}  // namespace rlt

@@ -1,0 +1,384 @@
+// Tests of the environment parameter manager: ML-Agents' lesson rules (min_lesson_length,
+// thresholds, one advance per update, progress measure, smoothing, require_reset, reward buffers),
+// the samplers' ranges and moments, and the saved state over a resume.
+#include "rl/curriculum/environment_parameter_manager.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rlt {
+namespace {
+
+CompletionCriteria reward_criteria(const std::string& behavior, double threshold,
+                                   int min_lesson_length, bool smoothing = false) {
+  CompletionCriteria criteria;
+  criteria.behavior = behavior;
+  criteria.measure = CompletionMeasure::kReward;
+  criteria.threshold = threshold;
+  criteria.min_lesson_length = min_lesson_length;
+  criteria.signal_smoothing = smoothing;
+  return criteria;
+}
+
+Lesson lesson(const std::string& name, float value,
+              std::optional<CompletionCriteria> criteria = std::nullopt) {
+  Lesson l;
+  l.name = name;
+  l.value = SamplerSettings::constant(value);
+  l.completion_criteria = std::move(criteria);
+  return l;
+}
+
+EnvironmentParameterSettings curriculum(std::vector<Lesson> lessons) {
+  EnvironmentParameterSettings settings;
+  settings.curriculum = std::move(lessons);
+  return settings;
+}
+
+// Three lessons of `height` measured on the reward of behavior "Jumper".
+EnvironmentParameterManager three_lessons(int min_lesson_length, double threshold,
+                                          bool smoothing = false) {
+  return EnvironmentParameterManager(
+      {{"height",
+        curriculum(
+            {lesson("Low", 0.f, reward_criteria("Jumper", threshold, min_lesson_length, smoothing)),
+             lesson("Mid", 4.f, reward_criteria("Jumper", threshold, min_lesson_length, smoothing)),
+             lesson("High", 8.f)})}});
+}
+
+EnvironmentParameterSettings sampled(SamplerSettings sampler) {
+  EnvironmentParameterSettings settings;
+  settings.sampler = std::move(sampler);
+  return settings;
+}
+
+const std::map<std::string, BehaviorProgress> kJumperProgress = {{"Jumper", {100, 1000}}};
+
+TEST(EnvironmentParameterManagerTest, StartsAtTheFirstLesson) {
+  EnvironmentParameterManager manager = three_lessons(2, 0.5);
+  EXPECT_EQ(manager.lessons(), (std::map<std::string, int>{{"height", 0}}));
+  EXPECT_EQ(manager.lesson_names(), (std::map<std::string, std::string>{{"height", "Low"}}));
+  EXPECT_EQ(manager.sample(1).at("height"), 0.f);
+  EXPECT_EQ(manager.reward_buffer_capacity("Jumper"), 2);
+  EXPECT_EQ(manager.reward_buffer_capacity("Other"), 0);
+}
+
+TEST(EnvironmentParameterManagerTest, NoAdvanceBelowMinLessonLength) {
+  EnvironmentParameterManager manager = three_lessons(3, 0.5);
+  manager.add_episode_reward("Jumper", 10.0);
+  manager.add_episode_reward("Jumper", 10.0);
+  const LessonUpdate update = manager.update(kJumperProgress);
+  EXPECT_FALSE(update.changed);
+  EXPECT_EQ(manager.lessons().at("height"), 0);
+}
+
+TEST(EnvironmentParameterManagerTest, NoAdvanceAtOrBelowTheThreshold) {
+  EnvironmentParameterManager manager = three_lessons(2, 0.5);
+  manager.add_episode_reward("Jumper", 0.5);
+  manager.add_episode_reward("Jumper", 0.5);
+  EXPECT_FALSE(manager.update(kJumperProgress).changed);  // the mean must exceed the threshold
+  EXPECT_EQ(manager.lessons().at("height"), 0);
+  EXPECT_EQ(manager.reward_buffer("Jumper").size(), 2u);  // kept while the lesson goes on
+}
+
+TEST(EnvironmentParameterManagerTest, ExactlyOneAdvanceWhenBothAreMet) {
+  EnvironmentParameterManager manager = three_lessons(2, 0.5);
+  manager.add_episode_reward("Jumper", 1.0);
+  manager.add_episode_reward("Jumper", 1.0);
+  const LessonUpdate update = manager.update(kJumperProgress);
+  EXPECT_TRUE(update.changed);
+  EXPECT_FALSE(update.require_reset);
+  // One lesson, although lesson "Mid" is met by the same rewards.
+  EXPECT_EQ(manager.lessons().at("height"), 1);
+  EXPECT_EQ(manager.lesson_names().at("height"), "Mid");
+  EXPECT_EQ(manager.sample(1).at("height"), 4.f);
+  // The reward buffer starts over: "Mid" waits for its own episodes.
+  EXPECT_TRUE(manager.reward_buffer("Jumper").empty());
+  EXPECT_FALSE(manager.update(kJumperProgress).changed);
+  manager.add_episode_reward("Jumper", 1.0);
+  manager.add_episode_reward("Jumper", 1.0);
+  EXPECT_TRUE(manager.update(kJumperProgress).changed);
+  EXPECT_EQ(manager.lessons().at("height"), 2);
+  // The last lesson never ends.
+  manager.add_episode_reward("Jumper", 100.0);
+  manager.add_episode_reward("Jumper", 100.0);
+  EXPECT_FALSE(manager.update(kJumperProgress).changed);
+  EXPECT_EQ(manager.lessons().at("height"), 2);
+}
+
+TEST(EnvironmentParameterManagerTest, RewardBufferKeepsTheNewestEpisodes) {
+  EnvironmentParameterManager manager = three_lessons(3, 5.0);
+  for (double reward : {10.0, 1.0, 2.0, 3.0}) manager.add_episode_reward("Jumper", reward);
+  EXPECT_EQ(manager.reward_buffer("Jumper"), (std::vector<double>{1.0, 2.0, 3.0}));
+  EXPECT_FALSE(manager.update(kJumperProgress).changed);  // mean 2 (the 10 was dropped)
+  manager.add_episode_reward("Jumper", NAN);              // not recorded
+  manager.add_episode_reward("Other", 7.0);               // no criteria measures it
+  EXPECT_EQ(manager.reward_buffer("Jumper"), (std::vector<double>{1.0, 2.0, 3.0}));
+  EXPECT_TRUE(manager.reward_buffer("Other").empty());
+}
+
+TEST(EnvironmentParameterManagerTest, MinLessonLengthZeroNeedsOneEpisodeForReward) {
+  EnvironmentParameterManager manager = three_lessons(0, 0.5);
+  EXPECT_EQ(manager.reward_buffer_capacity("Jumper"), 1);
+  EXPECT_FALSE(manager.update(kJumperProgress).changed);  // no episode: no mean
+  manager.add_episode_reward("Jumper", 1.0);
+  EXPECT_TRUE(manager.update(kJumperProgress).changed);
+}
+
+TEST(EnvironmentParameterManagerTest, BehaviorWithoutTrainerDoesNotAdvance) {
+  EnvironmentParameterManager manager = three_lessons(1, 0.5);
+  manager.add_episode_reward("Jumper", 1.0);
+  EXPECT_FALSE(manager.update({{"Someone", {1, 10}}}).changed);
+  EXPECT_TRUE(manager.update(kJumperProgress).changed);
+}
+
+TEST(EnvironmentParameterManagerTest, ProgressMeasure) {
+  CompletionCriteria criteria;
+  criteria.behavior = "Walker";
+  criteria.measure = CompletionMeasure::kProgress;
+  criteria.threshold = 0.25;
+  criteria.min_lesson_length = 1;
+  criteria.require_reset = true;
+  EnvironmentParameterManager manager(
+      {{"speed", curriculum({lesson("Slow", 1.f, criteria), lesson("Fast", 2.f)})}});
+  manager.add_episode_reward("Walker", -100.0);                     // the reward does not matter
+  EXPECT_FALSE(manager.update({{"Walker", {250, 1000}}}).changed);  // 0.25 is not > 0.25
+  const LessonUpdate update = manager.update({{"Walker", {251, 1000}}});
+  EXPECT_TRUE(update.changed);
+  EXPECT_TRUE(update.require_reset);
+  EXPECT_EQ(manager.lesson_names().at("speed"), "Fast");
+  EXPECT_EQ(manager.smoothed_value("speed"), 0.0);  // progress does not smooth
+}
+
+TEST(EnvironmentParameterManagerTest, ProgressMeasureStillWaitsForMinLessonLength) {
+  CompletionCriteria criteria;
+  criteria.behavior = "Walker";
+  criteria.measure = CompletionMeasure::kProgress;
+  criteria.threshold = 0.1;
+  criteria.min_lesson_length = 2;
+  EnvironmentParameterManager manager(
+      {{"speed", curriculum({lesson("Slow", 1.f, criteria), lesson("Fast", 2.f)})}});
+  manager.add_episode_reward("Walker", 0.0);
+  EXPECT_FALSE(manager.update({{"Walker", {900, 1000}}}).changed);
+  manager.add_episode_reward("Walker", 0.0);
+  EXPECT_TRUE(manager.update({{"Walker", {900, 1000}}}).changed);
+}
+
+TEST(EnvironmentParameterManagerTest, SmoothingArithmetic) {
+  EnvironmentParameterManager manager = three_lessons(2, 0.7, /*smoothing=*/true);
+  manager.add_episode_reward("Jumper", 0.5);
+  manager.add_episode_reward("Jumper", 1.5);  // mean 1.0
+  // 0.25 * 0 + 0.75 * 1.0 = 0.75 > 0.7: advances, and the smoothed value is kept
+  EXPECT_TRUE(manager.update(kJumperProgress).changed);
+  EXPECT_DOUBLE_EQ(manager.smoothed_value("height"), 0.75);
+}
+
+TEST(EnvironmentParameterManagerTest, SmoothingSequence) {
+  EnvironmentParameterManager manager = three_lessons(1, 0.95, /*smoothing=*/true);
+  manager.add_episode_reward("Jumper", 1.0);
+  EXPECT_FALSE(manager.update(kJumperProgress).changed);
+  EXPECT_DOUBLE_EQ(manager.smoothed_value("height"), 0.75);
+  EXPECT_FALSE(manager.update(kJumperProgress).changed);
+  EXPECT_DOUBLE_EQ(manager.smoothed_value("height"), 0.25 * 0.75 + 0.75);  // 0.9375
+  EXPECT_TRUE(manager.update(kJumperProgress).changed);  // 0.25 * 0.9375 + 0.75 = 0.984375
+  EXPECT_DOUBLE_EQ(manager.smoothed_value("height"), 0.984375);
+  // Without smoothing the plain mean decides.
+  EnvironmentParameterManager plain = three_lessons(1, 0.95);
+  plain.add_episode_reward("Jumper", 1.0);
+  EXPECT_TRUE(plain.update(kJumperProgress).changed);
+  EXPECT_EQ(plain.smoothed_value("height"), 0.0);
+}
+
+TEST(EnvironmentParameterManagerTest, ParametersAdvanceIndependentlyAndClearAllBuffers) {
+  EnvironmentParameterManager manager(
+      {{"a", curriculum({lesson("A0", 0.f, reward_criteria("Jumper", 0.5, 1)), lesson("A1", 1.f)})},
+       {"b", curriculum({lesson("B0", 0.f, reward_criteria("Runner", 0.5, 2)), lesson("B1", 1.f)})},
+       {"c", 3.f}});
+  manager.add_episode_reward("Jumper", 1.0);
+  manager.add_episode_reward("Runner", 1.0);
+  const std::map<std::string, BehaviorProgress> progress = {{"Jumper", {1, 10}},
+                                                            {"Runner", {1, 10}}};
+  EXPECT_TRUE(manager.update(progress).changed);
+  EXPECT_EQ(manager.lessons(), (std::map<std::string, int>{{"a", 1}, {"b", 0}}));
+  // As in ML-Agents, a lesson change clears every behavior's buffer.
+  EXPECT_TRUE(manager.reward_buffer("Runner").empty());
+  EXPECT_EQ(manager.sample(1), (Parameters{{"a", 1.f}, {"b", 0.f}, {"c", 3.f}}));
+}
+
+TEST(EnvironmentParameterManagerTest, UniformStaysInItsRange) {
+  EnvironmentParameterManager manager({{"x", sampled(SamplerSettings::uniform(-2.f, 3.f))}});
+  std::mt19937_64 rng(7);
+  double sum = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    const float x = manager.sample(rng).at("x");
+    ASSERT_GE(x, -2.f);
+    ASSERT_LE(x, 3.f);
+    sum += x;
+  }
+  EXPECT_NEAR(sum / n, 0.5, 0.05);
+}
+
+TEST(EnvironmentParameterManagerTest, GaussianMoments) {
+  EnvironmentParameterManager manager({{"x", sampled(SamplerSettings::gaussian(5.f, 2.f))}});
+  std::mt19937_64 rng(11);
+  const int n = 50000;
+  double sum = 0, sum_squares = 0;
+  for (int i = 0; i < n; ++i) {
+    const double x = manager.sample(rng).at("x");
+    sum += x;
+    sum_squares += x * x;
+  }
+  const double mean = sum / n;
+  const double stddev = std::sqrt(sum_squares / n - mean * mean);
+  EXPECT_NEAR(mean, 5.0, 0.05);  // standard error 2 / sqrt(50000) = 0.009
+  EXPECT_NEAR(stddev, 2.0, 0.05);
+}
+
+TEST(EnvironmentParameterManagerTest, MultiRangeUniformOnlyInsideItsIntervals) {
+  EnvironmentParameterManager manager(
+      {{"x", sampled(SamplerSettings::multi_range_uniform({{0.f, 1.f}, {5.f, 8.f}}))}});
+  std::mt19937_64 rng(3);
+  const int n = 20000;
+  int in_second = 0;
+  for (int i = 0; i < n; ++i) {
+    const float x = manager.sample(rng).at("x");
+    const bool first = x >= 0.f && x <= 1.f;
+    const bool second = x >= 5.f && x <= 8.f;
+    ASSERT_TRUE(first || second) << x;
+    in_second += second;
+  }
+  EXPECT_NEAR(double(in_second) / n, 0.75, 0.02);  // proportional to the lengths 1 and 3
+
+  EnvironmentParameterManager points(
+      {{"x", sampled(SamplerSettings::multi_range_uniform({{2.f, 2.f}, {4.f, 4.f}}))}});
+  for (int i = 0; i < 100; ++i) {
+    const float x = points.sample(rng).at("x");
+    ASSERT_TRUE(x == 2.f || x == 4.f) << x;
+  }
+}
+
+TEST(EnvironmentParameterManagerTest, SameSeedSameDraws) {
+  const std::map<std::string, EnvironmentParameterSettings> settings = {
+      {"u", sampled(SamplerSettings::uniform(0.f, 1.f))},
+      {"g", sampled(SamplerSettings::gaussian(0.f, 1.f))},
+      {"m", sampled(SamplerSettings::multi_range_uniform({{0.f, 1.f}, {2.f, 3.f}}))},
+      {"c", 4.f}};
+  EnvironmentParameterManager a(settings), b(settings);
+  std::mt19937_64 rng_a(99), rng_b(99);
+  for (int i = 0; i < 50; ++i) ASSERT_EQ(a.sample(rng_a), b.sample(rng_b));
+  EXPECT_EQ(a.sample(uint64_t{5}), b.sample(uint64_t{5}));
+  EXPECT_NE(a.sample(uint64_t{5}), a.sample(uint64_t{6}));
+  // Draws per sample: uniform 1, gaussian 2, multirangeuniform 1, constant 0.
+  std::mt19937_64 counted(1), reference(1);
+  a.sample(counted);
+  reference.discard(4);
+  EXPECT_EQ(counted(), reference());
+}
+
+TEST(EnvironmentParameterManagerTest, CurriculumLessonSamplerIsDrawn) {
+  Lesson first = lesson("Wide", 0.f, reward_criteria("Jumper", 0.5, 1));
+  first.value = SamplerSettings::uniform(10.f, 20.f);
+  EnvironmentParameterManager manager({{"x", curriculum({first, lesson("Fixed", 1.f)})}});
+  std::mt19937_64 rng(1);
+  for (int i = 0; i < 100; ++i) {
+    const float x = manager.sample(rng).at("x");
+    ASSERT_GE(x, 10.f);
+    ASSERT_LE(x, 20.f);
+  }
+}
+
+// Runs `episodes` rewards through a manager, updating after each, and returns the lessons seen.
+std::vector<int> drive(EnvironmentParameterManager* manager, const std::vector<double>& rewards,
+                       int64_t* steps) {
+  std::vector<int> lessons;
+  for (const double reward : rewards) {
+    manager->add_episode_reward("Jumper", reward);
+    *steps += 10;
+    manager->update({{"Jumper", {*steps, 1000}}});
+    lessons.push_back(manager->lessons().at("height"));
+  }
+  return lessons;
+}
+
+TEST(EnvironmentParameterManagerTest, SerializeThenContinueGivesTheSameLessons) {
+  std::vector<double> rewards;
+  for (int i = 0; i < 60; ++i) rewards.push_back(0.1 * (i % 7) + 0.006 * i);
+  const std::vector<double> head(rewards.begin(), rewards.begin() + 31);
+  const std::vector<double> tail(rewards.begin() + 31, rewards.end());
+
+  EnvironmentParameterManager straight = three_lessons(4, 0.55, /*smoothing=*/true);
+  int64_t steps = 0;
+  std::vector<int> expected = drive(&straight, rewards, &steps);
+  ASSERT_EQ(expected.back(), 2) << "the reference run should pass through every lesson";
+
+  EnvironmentParameterManager first = three_lessons(4, 0.55, /*smoothing=*/true);
+  steps = 0;
+  std::vector<int> seen = drive(&first, head, &steps);
+  // The state carried over is not trivial: a lesson passed, rewards and smoothing under way.
+  ASSERT_EQ(first.lessons().at("height"), 1);
+  ASSERT_FALSE(first.reward_buffer("Jumper").empty());
+  ASSERT_NE(first.smoothed_value("height"), 0.0);
+  const std::string state = first.serialize();
+  EnvironmentParameterManager resumed = three_lessons(4, 0.55, /*smoothing=*/true);
+  resumed.deserialize(state);
+  EXPECT_EQ(resumed.lessons(), first.lessons());
+  EXPECT_EQ(resumed.smoothed_value("height"), first.smoothed_value("height"));  // bit for bit
+  EXPECT_EQ(resumed.reward_buffer("Jumper"), first.reward_buffer("Jumper"));
+  EXPECT_EQ(resumed.serialize(), state);
+  const std::vector<int> rest = drive(&resumed, tail, &steps);
+  seen.insert(seen.end(), rest.begin(), rest.end());
+  EXPECT_EQ(seen, expected);
+  EXPECT_EQ(resumed.serialize(), straight.serialize());
+}
+
+TEST(EnvironmentParameterManagerTest, SerializedStateShape) {
+  EnvironmentParameterManager manager = three_lessons(2, 0.5, /*smoothing=*/true);
+  manager.add_episode_reward("Jumper", 0.25);
+  manager.add_episode_reward("Jumper", 0.75);
+  EXPECT_FALSE(manager.update(kJumperProgress).changed);  // 0.75 * 0.5 = 0.375
+  manager.add_episode_reward("Jumper", 1e-7);
+  EXPECT_EQ(manager.serialize(),
+            "{\"parameters\": {\"height\": {\"lesson\": 0, \"lesson_name\": \"Low\", "
+            "\"smoothed_value\": 0.375}}, \"reward_buffers\": {\"Jumper\": [0.75, 1e-07]}}");
+}
+
+TEST(EnvironmentParameterManagerTest, DeserializeChecksTheState) {
+  EnvironmentParameterManager manager = three_lessons(2, 0.5);
+  EXPECT_THROW(manager.deserialize("[1, 2"), std::runtime_error);
+  EXPECT_THROW(manager.deserialize("[1, 2]"), std::runtime_error);
+  EXPECT_THROW(manager.deserialize("{\"parameters\": {\"height\": {\"lesson\": 3}}}"),
+               std::runtime_error);
+  EXPECT_THROW(manager.deserialize("{\"parameters\": {\"height\": {\"lesson\": 1.5}}}"),
+               std::runtime_error);
+  EXPECT_THROW(manager.deserialize("{\"reward_buffers\": {\"Jumper\": [\"x\"]}}"),
+               std::runtime_error);
+  EXPECT_EQ(manager.lessons().at("height"), 0);  // unchanged by the failures
+  // Unknown parameters and behaviors are ignored; missing ones start over.
+  manager.deserialize(
+      "{\"parameters\": {\"gone\": {\"lesson\": 4}, \"height\": {\"lesson\": 2}}, "
+      "\"reward_buffers\": {\"Nobody\": [1], \"Jumper\": [1, 2, 3]}}");
+  EXPECT_EQ(manager.lessons().at("height"), 2);
+  EXPECT_EQ(manager.reward_buffer("Jumper"), (std::vector<double>{2, 3}));  // capacity 2
+  manager.deserialize("{}");
+  EXPECT_EQ(manager.lessons().at("height"), 0);
+  EXPECT_TRUE(manager.reward_buffer("Jumper").empty());
+}
+
+TEST(EnvironmentParameterManagerTest, EmptyManager) {
+  EnvironmentParameterManager manager;
+  EXPECT_TRUE(manager.empty());
+  EXPECT_TRUE(manager.sample(1).empty());
+  EXPECT_FALSE(manager.update({}).changed);
+  EnvironmentParameterManager restored;
+  restored.deserialize(manager.serialize());
+  EXPECT_TRUE(restored.lessons().empty());
+}
+
+}  // namespace
+}  // namespace rlt
