@@ -42,7 +42,8 @@ void FastActor::copy_from(const PolicyNetworkImpl& net, const RunningNormalizer*
     log_std_ = to_row(net.log_std);
   }
   if (action_.num_branches() > 0) logits_head_ = copy_layer(net.logits_head);
-  value_head_ = copy_layer(net.value_head);
+  with_critic_ = shape.with_critic;
+  if (with_critic_) value_head_ = copy_layer(net.value_head);
   normalize_ = normalizer != nullptr;
   if (normalize_) {
     auto mean = normalizer->mean_float();
@@ -78,6 +79,7 @@ RowMatrix FastActor::run_body(const std::vector<Layer>& body, RowMatrix x) const
 }
 
 Eigen::VectorXf FastActor::value(const RowMatrix& obs) const {
+  if (!with_critic_) return Eigen::VectorXf::Zero(obs.rows());
   RowMatrix x = normalized(obs);
   RowMatrix h = run_body(shared_critic_ ? actor_body_ : critic_body_, x);
   return ((h * value_head_.weight).rowwise() + value_head_.bias).col(0);
@@ -140,6 +142,10 @@ void FastActor::act(const RowMatrix& obs, const uint8_t* mask, bool deterministi
     }
   }
   // critic
+  if (!with_critic_) {
+    out.value.setZero(batch);
+    return;
+  }
   RowMatrix hv = shared_critic_ ? h : run_body(critic_body_, x);
   out.value = ((hv * value_head_.weight).rowwise() + value_head_.bias).col(0);
 }

@@ -39,7 +39,7 @@ class FastActor {
   // Samples actions with `rng` (the mode when `deterministic`) and evaluates the critic.
   void act(const RowMatrix& obs, const uint8_t* mask, bool deterministic, std::mt19937_64& rng,
            ActBatch& out) const;
-  // critic only: obs [B, obs_size] -> [B]
+  // critic only: obs [B, obs_size] -> [B] (zeros for an actor without critic)
   Eigen::VectorXf value(const RowMatrix& obs) const;
 
  private:
@@ -53,6 +53,7 @@ class FastActor {
   ActionSpec action_;
   Activation activation_ = Activation::kSwish;
   bool shared_critic_ = false;
+  bool with_critic_ = true;
   bool normalize_ = false;
   Eigen::RowVectorXf obs_mean_, obs_inv_std_;  // [obs_size]
   std::vector<Layer> actor_body_, critic_body_;

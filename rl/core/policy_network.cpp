@@ -28,6 +28,7 @@ PolicyNetworkImpl::PolicyNetworkImpl(const NetworkShape& shape) : shape_(shape) 
   }
   if (shape.action.num_branches() > 0)
     logits_head = make_layer("logits_head", h, shape.action.mask_size(), 0.01);
+  if (!shape.with_critic) return;
   if (!shape.shared_critic) {
     in = shape.obs_size;
     for (int l = 0; l < shape.num_layers; ++l, in = h)

@@ -23,6 +23,7 @@ struct NetworkShape {
   int num_layers = 2;
   Activation activation = Activation::kSwish;
   bool shared_critic = false;  // critic head on the actor's body
+  bool with_critic = true;     // false: actor only (MA-POCA keeps its critic elsewhere)
 };
 
 struct DenseLayer {
@@ -51,8 +52,8 @@ class PolicyNetworkImpl : public torch::nn::Module {
   std::vector<DenseLayer> actor_body;   // num_layers hidden layers
   DenseLayer mean_head;                 // [H, C]
   DenseLayer logits_head;               // [H, M]
-  std::vector<DenseLayer> critic_body;  // empty when shared_critic
-  DenseLayer value_head;                // [H, 1]
+  std::vector<DenseLayer> critic_body;  // empty when shared_critic or without critic
+  DenseLayer value_head;                // [H, 1] (undefined without critic)
 
  private:
   DenseLayer make_layer(const std::string& name, int in, int out, double gain);

@@ -4,6 +4,7 @@
 
 #include "rl/config/config_parser.h"
 #include "rl/env_api/env_registry.h"
+#include "rl/trainer/trainer_factory.h"
 
 namespace fs = std::filesystem;
 
@@ -30,7 +31,7 @@ SavedRun load_saved_run(const std::string& run_dir) {
     throw std::runtime_error("cannot read checkpoint " + run.checkpoint + ": " + e.what_without_backtrace());
   }
   for (const auto& bs : run.env_spec.behaviors) {
-    auto t = std::make_unique<PpoTrainer>(bs, behavior_config(run.config, bs.name), bs.agent_slots, 0,
+    auto t = make_trainer(bs, behavior_config(run.config, bs.name), bs.agent_slots, 0,
                                           run.env_spec.name);
     torch::serialize::InputArchive ba;
     if (!archive.try_read("behavior." + bs.name, ba))

@@ -8,7 +8,7 @@
 
 #include "rl/config/run_config.h"
 #include "rl/env_api/spec.h"
-#include "rl/ppo/ppo_trainer.h"
+#include "rl/trainer/on_policy_trainer.h"
 #include "rl/trainer/run_folder.h"
 
 namespace rlt {
@@ -18,7 +18,7 @@ struct SavedRun {
   RunConfig config;
   EnvSpec env_spec;
   std::string checkpoint;                           // path of the checkpoint that was loaded
-  std::vector<std::unique_ptr<PpoTrainer>> trainers;  // weights and normalizers loaded
+  std::vector<std::unique_ptr<OnPolicyTrainer>> trainers;  // weights and normalizers loaded
 };
 
 // Throws with a message naming the folder or file when the run cannot be read.

@@ -18,6 +18,7 @@
 #include "rl/core/compute_threads.h"
 #include "rl/core/policy_export.h"
 #include "rl/curriculum/environment_parameter_manager.h"
+#include "rl/trainer/trainer_factory.h"
 
 namespace fs = std::filesystem;
 
@@ -99,7 +100,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     if (options_.max_steps > 0) bc.max_steps = options_.max_steps;
     config_.behaviors[bs.name] = bc;
     torch::manual_seed(seed_ * 7919 + b);
-    trainers_.push_back(std::make_unique<PpoTrainer>(bs, bc, env_->buffers(b).rows,
+    trainers_.push_back(make_trainer(bs, bc, env_->buffers(b).rows,
                                                      seed_ * 1000003 + 17 * b + 1, spec.name));
   }
   summary_returns_.resize(trainers_.size());

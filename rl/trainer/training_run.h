@@ -18,7 +18,7 @@
 
 #include "rl/config/run_config.h"
 #include "rl/env_api/vector_env.h"
-#include "rl/ppo/ppo_trainer.h"
+#include "rl/trainer/on_policy_trainer.h"
 #include "rl/trainer/run_folder.h"
 
 namespace rlt {
@@ -60,7 +60,7 @@ class TrainingRun {
   TrainResult train(int stop_after_boundaries = 0);
 
   const RunConfig& config() const { return config_; }
-  PpoTrainer& trainer(int behavior) { return *trainers_[behavior]; }
+  OnPolicyTrainer& trainer(int behavior) { return *trainers_[behavior]; }
   int num_trainers() const { return static_cast<int>(trainers_.size()); }
   const RunFolder* folder() const { return folder_.get(); }
   // returns of the newest finished agent episodes of behavior `b` (at most kRecentEpisodes)
@@ -83,7 +83,7 @@ class TrainingRun {
   uint64_t seed_ = 0;
   std::unique_ptr<RunFolder> folder_;
   std::unique_ptr<VectorEnv> env_;
-  std::vector<std::unique_ptr<PpoTrainer>> trainers_;
+  std::vector<std::unique_ptr<OnPolicyTrainer>> trainers_;
   TrainingStatus status_;
   int64_t boundary_index_ = 0;
   double elapsed_before_ = 0;  // seconds trained before a resume
