@@ -22,7 +22,7 @@ PocaCriticImpl::PocaCriticImpl(const PocaCriticShape& shape) : shape_(shape) {
   value_head_ = register_module("value_head", torch::nn::Linear(h, 1));
 }
 
-torch::Tensor PocaCriticImpl::head(const torch::Tensor& entities, const torch::Tensor& present) const {
+torch::Tensor PocaCriticImpl::head(const torch::Tensor& entities, const torch::Tensor& present) {
   const int64_t b = entities.size(0), n = entities.size(1), h = entities.size(2);
   const int64_t heads = shape_.heads, d = h / heads;
   // multi-head self-attention over entities; absent entities are masked as keys
@@ -44,14 +44,14 @@ torch::Tensor PocaCriticImpl::head(const torch::Tensor& entities, const torch::T
   return value_head_->forward(pooled).squeeze(1);                       // [B]
 }
 
-torch::Tensor PocaCriticImpl::value(const torch::Tensor& obs, const torch::Tensor& present) const {
+torch::Tensor PocaCriticImpl::value(const torch::Tensor& obs, const torch::Tensor& present) {
   auto entities = activate(shape_.activation, obs_embedding_->forward(obs));  // [B, N, H]
   return head(entities, present);
 }
 
 torch::Tensor PocaCriticImpl::baseline(const torch::Tensor& own_obs, const torch::Tensor& others_obs,
                                        const torch::Tensor& others_actions,
-                                       const torch::Tensor& others_present) const {
+                                       const torch::Tensor& others_present) {
   auto own = activate(shape_.activation, obs_embedding_->forward(own_obs)).unsqueeze(1);  // [B, 1, H]
   auto others = activate(shape_.activation,
                          obs_action_embedding_->forward(torch::cat({others_obs, others_actions}, 2)));

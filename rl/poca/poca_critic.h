@@ -32,19 +32,19 @@ class PocaCriticImpl : public torch::nn::Module {
 
   // obs: [B, N, D] normalized observations of the N member slots; present: [B, N] (1 or 0)
   // -> [B] value of the group
-  torch::Tensor value(const torch::Tensor& obs, const torch::Tensor& present) const;
+  torch::Tensor value(const torch::Tensor& obs, const torch::Tensor& present);
 
   // own_obs: [B, D]; others_obs: [B, N-1, D]; others_actions: [B, N-1, A]; others_present: [B, N-1]
   // -> [B] baseline of the member whose observation is own_obs (its own action is not an input)
   torch::Tensor baseline(const torch::Tensor& own_obs, const torch::Tensor& others_obs,
                          const torch::Tensor& others_actions,
-                         const torch::Tensor& others_present) const;
+                         const torch::Tensor& others_present);
 
   const PocaCriticShape& shape() const { return shape_; }
 
  private:
   // entities: [B, N, H], present: [B, N] -> [B] through attention, pooling, MLP and head
-  torch::Tensor head(const torch::Tensor& entities, const torch::Tensor& present) const;
+  torch::Tensor head(const torch::Tensor& entities, const torch::Tensor& present);
 
   PocaCriticShape shape_;
   torch::nn::Linear obs_embedding_{nullptr};         // D -> H

@@ -2,6 +2,12 @@
 
 namespace rlt {
 
+torch::Tensor clipped_value_loss(const torch::Tensor& values, const torch::Tensor& old_values,
+                                 const torch::Tensor& returns, float epsilon) {
+  auto values_clipped = old_values + torch::clamp(values - old_values, -epsilon, epsilon);
+  return torch::max(torch::square(returns - values), torch::square(returns - values_clipped)).mean();
+}
+
 PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_prob,
                  const torch::Tensor& advantages, const torch::Tensor& values,
                  const torch::Tensor& old_values, const torch::Tensor& returns,
@@ -11,10 +17,7 @@ PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_pro
   auto ratio = torch::exp(log_prob - old_log_prob);
   auto clipped_ratio = torch::clamp(ratio, 1.f - epsilon, 1.f + epsilon);
   out.policy = -torch::min(ratio * advantages, clipped_ratio * advantages).mean();
-  // clipped value loss
-  auto values_clipped = old_values + torch::clamp(values - old_values, -epsilon, epsilon);
-  out.value =
-      torch::max(torch::square(returns - values), torch::square(returns - values_clipped)).mean();
+  out.value = clipped_value_loss(values, old_values, returns, epsilon);
   out.entropy = entropy.mean();
   out.total = out.policy + value_loss_coef * out.value - beta * out.entropy;
   return out;

@@ -15,6 +15,10 @@ struct PpoLoss {
   torch::Tensor total;    // []
 };
 
+// mean(max((R - V)^2, (R - V_clip)^2)); every argument is [B]
+torch::Tensor clipped_value_loss(const torch::Tensor& values, const torch::Tensor& old_values,
+                                 const torch::Tensor& returns, float epsilon);
+
 // every argument is [B]
 PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_prob,
                  const torch::Tensor& advantages, const torch::Tensor& values,
