@@ -5,8 +5,11 @@
 
 #include "env/classic/cartpole.h"
 #include "env/classic/pendulum.h"
+#include "env/toy/duel.h"
+#include "env/toy/escape.h"
 #include "env/toy/hybrid_reach.h"
 #include "env/toy/masked_choice.h"
+#include "env/toy/pursuit.h"
 #include "rl/env_api/env_registry.h"
 
 namespace rlt {
@@ -30,6 +33,10 @@ void register_builtin_envs() {
     // toy envs for tests
     add_env<HybridReach>("HybridReach");
     add_env<MaskedChoice>("MaskedChoice");
+    // toy multi-agent envs: group credit, hide-and-seek in 2D, symmetric self-play
+    add_env<Escape>("Escape");
+    add_env<Pursuit>("Pursuit");
+    add_env<Duel>("Duel");
   });
 }
 
