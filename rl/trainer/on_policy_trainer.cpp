@@ -42,6 +42,7 @@ OnPolicyTrainer::OnPolicyTrainer(const BehaviorSpec& spec, const BehaviorConfig&
   pending_.assign(rows, 0);
   rewards_.resize(rows);
   episode_return_.assign(rows, 0.0);
+  episode_group_return_.assign(rows, 0.0);
   episode_length_.assign(rows, 0);
   buffer_.obs_size = obs_size_;
   buffer_.continuous_size = spec.action.continuous_size;
@@ -117,6 +118,7 @@ void OnPolicyTrainer::act(BehaviorBuffers& buf, const std::vector<uint8_t>* lear
     auto& t = trajectories_[r];
     if (buf.step_type[r] == StepType::kFirst) {
       episode_return_[r] = 0.0;
+      episode_group_return_[r] = 0.0;
       episode_length_[r] = 0;
     }
     t.obs.insert(t.obs.end(), act_obs_.data() + i * obs_size_, act_obs_.data() + (i + 1) * obs_size_);
@@ -145,9 +147,11 @@ void OnPolicyTrainer::observe(const BehaviorBuffers& buf) {
     if (!std::isfinite(raw)) require_finite(&raw, 1, where(buf, r) + ": reward");
     rewards_[r].push_back(step_reward(buf, r));
     episode_return_[r] += buf.reward[r];
+    episode_group_return_[r] += buf.group_reward[r];
     episode_length_[r] += 1;
     if (st == StepType::kLast) {
       episode_stats_.returns.push_back(float(episode_return_[r]));
+      episode_stats_.group_returns.push_back(float(episode_group_return_[r]));
       episode_stats_.lengths.push_back(float(episode_length_[r]));
       (buf.terminated[r] ? terminated : bootstrapped).push_back(r);
     } else if (int(rewards_[r].size()) >= config_.time_horizon) {
@@ -223,6 +227,7 @@ void OnPolicyTrainer::save(torch::serialize::OutputArchive& a) const {
   buffer_.save(a, "buffer.");
   write_vector(a, "episodes.returns", episode_stats_.returns);
   write_vector(a, "episodes.lengths", episode_stats_.lengths);
+  write_vector(a, "episodes.group_returns", episode_stats_.group_returns);
   save_extra(a);
 }
 
@@ -253,6 +258,7 @@ void OnPolicyTrainer::load(torch::serialize::InputArchive& a) {
   buffer_.load(a, "buffer.");
   episode_stats_.returns = read_vector<float>(a, "episodes.returns");
   episode_stats_.lengths = read_vector<float>(a, "episodes.lengths");
+  episode_stats_.group_returns = read_vector<float>(a, "episodes.group_returns");
 }
 
 }  // namespace rlt

@@ -32,8 +32,9 @@ struct UpdateStats {
 
 // Rewards of episodes that ended since the statistics were last taken.
 struct EpisodeStats {
-  std::vector<float> returns;  // cumulative reward per finished agent episode
-  std::vector<float> lengths;  // decisions per finished agent episode
+  std::vector<float> returns;        // cumulative reward per finished agent episode
+  std::vector<float> group_returns;  // cumulative group reward of the same episodes
+  std::vector<float> lengths;        // decisions per finished agent episode
 };
 
 class OnPolicyTrainer {
@@ -127,6 +128,7 @@ class OnPolicyTrainer {
   std::vector<ExperienceBuffer> trajectories_; // [rows] running trajectory of the row's agent
   std::vector<std::vector<float>> rewards_;    // [rows][T] rewards of the running trajectory
   std::vector<double> episode_return_;         // [rows] cumulative reward of the running episode
+  std::vector<double> episode_group_return_;   // [rows] cumulative group reward of that episode
   std::vector<int> episode_length_;            // [rows]
   ExperienceBuffer buffer_;                    // the update buffer
   EpisodeStats episode_stats_;

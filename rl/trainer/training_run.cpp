@@ -104,6 +104,8 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
                                                      seed_ * 1000003 + 17 * b + 1, spec.name));
   }
   summary_returns_.resize(trainers_.size());
+  summary_group_returns_.resize(trainers_.size());
+  summary_metrics_.resize(trainers_.size());
   update_window_.resize(trainers_.size());
   recent_returns_.resize(trainers_.size());
 
@@ -185,6 +187,8 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
       trainers_[b]->observe(env_->buffers(b));
       auto ep = trainers_[b]->take_episode_stats();
       summary_returns_[b].insert(summary_returns_[b].end(), ep.returns.begin(), ep.returns.end());
+      summary_group_returns_[b].insert(summary_group_returns_[b].end(), ep.group_returns.begin(),
+                                       ep.group_returns.end());
       auto& w = update_window_[b];
       w.returns.insert(w.returns.end(), ep.returns.begin(), ep.returns.end());
       w.lengths.insert(w.lengths.end(), ep.lengths.begin(), ep.lengths.end());
@@ -194,7 +198,12 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
         if (recent_returns_[b].size() > kRecentEpisodes) recent_returns_[b].pop_front();
       }
     }
-    env_->take_finished_episodes();
+    for (const auto& f : env_->take_finished_episodes())
+      for (auto& window : summary_metrics_)
+        for (const auto& [name, value] : f.metrics) {
+          window[name].first += value;
+          window[name].second += 1;
+        }
     result.trajectory_seconds += seconds_since(t0);
     for (int b = 0; b < nb; ++b) {
       auto& t = *trainers_[b];
@@ -253,6 +262,7 @@ void TrainingRun::save_checkpoint() {
     torch::serialize::OutputArchive ba;
     trainers_[b]->save(ba);
     write_vector(ba, "summary_returns", summary_returns_[b]);
+    write_vector(ba, "summary_group_returns", summary_group_returns_[b]);
     write_vector(ba, "window.returns", update_window_[b].returns);
     write_vector(ba, "window.lengths", update_window_[b].lengths);
     archive.write("behavior." + trainers_[b]->behavior(), ba);
@@ -296,6 +306,7 @@ void TrainingRun::load_checkpoint(const std::string& path, bool weights_only) {
     }
     trainers_[b]->load(ba);
     summary_returns_[b] = read_vector<float>(ba, "summary_returns");
+    summary_group_returns_[b] = read_vector<float>(ba, "summary_group_returns");
     update_window_[b].returns = read_vector<float>(ba, "window.returns");
     update_window_[b].lengths = read_vector<float>(ba, "window.lengths");
   }
@@ -331,13 +342,20 @@ void TrainingRun::summarize(int b) {
   if (returns.empty()) {
     os << " No episode was completed since last summary.";
   } else {
-    os << " Mean Reward: " << mean_of(returns) << ". Std of Reward: " << std_of(returns)
-       << ". Episodes: " << returns.size() << ".";
+    os << " Mean Reward: " << mean_of(returns) << ". Std of Reward: " << std_of(returns) << ".";
+    const auto& group = summary_group_returns_[b];
+    if (std::any_of(group.begin(), group.end(), [](float g) { return g != 0.f; }))
+      os << " Mean Group Reward: " << mean_of(group) << ".";
+    os << " Episodes: " << returns.size() << ".";
   }
+  for (const auto& [name, sum_count] : summary_metrics_[b])
+    os << " " << name << ": " << sum_count.first / sum_count.second << ".";
   const double frac = double(t.step()) / double(t.config().max_steps);
   if (frac > 0 && frac < 1) os << " ETA: " << std::setprecision(0) << elapsed() * (1 - frac) / frac << " s.";
   os << (t.finished() ? "" : " Training.");
   returns.clear();
+  summary_group_returns_[b].clear();
+  summary_metrics_[b].clear();
   if (options_.progress && isatty(2)) std::cerr << "\r\033[K";
   *log_ << os.str() << std::endl;
   last_progress_ = -1;

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <map>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -90,6 +91,8 @@ class TrainingRun {
   std::chrono::steady_clock::time_point start_;
   std::vector<int64_t> next_summary_, next_checkpoint_;  // per behavior
   std::vector<std::vector<float>> summary_returns_;       // per behavior
+  std::vector<std::vector<float>> summary_group_returns_; // per behavior
+  std::vector<std::map<std::string, std::pair<double, int>>> summary_metrics_;  // per behavior: sum, count
   std::vector<EpisodeStats> update_window_;               // per behavior: episodes since last row
   std::vector<std::deque<float>> recent_returns_;         // per behavior
   double last_progress_ = -1;
