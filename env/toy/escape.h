@@ -43,7 +43,8 @@
 // 0.30, then 0.12). The same runs on a variant where the sacrificed agent stays in the game and
 // shares the escape reward reach 89% after 300k at lr 3e-4 (100% after 1M) and 100% after 300k at
 // lr 1e-3 (7.0 decisions): the task is easy once the sacrifice is credited, which is what
-// MA-POCA's group value is for.
+// MA-POCA's group value is for. This project's MA-POCA trainer (16 envs, 64-64, lr 1e-3, buffer
+// 2048) escapes in 100% of 1000 evaluation episodes after 300k agent steps (43 s on one core).
 #pragma once
 
 #include <array>
