@@ -1,16 +1,17 @@
 #include "rl/trainer/behavior_policy.h"
 
 #include <cstring>
+#include <sstream>
 
 #include "rl/core/action_distribution.h"
 
 namespace rlt {
 
-void NetworkPolicy::act(BehaviorBuffers& buf) {
+void NetworkPolicy::act(BehaviorBuffers& buf, const std::vector<uint8_t>* only) {
   const auto& spec = buf.spec;
   std::vector<int> rows;
   for (int r = 0; r < buf.rows; ++r)
-    if (needs_action(buf.step_type[r])) rows.push_back(r);
+    if (needs_action(buf.step_type[r]) && (!only || (*only)[r])) rows.push_back(r);
   if (rows.empty()) return;
   const int m = spec.action.mask_size(), c = spec.action.continuous_size, k = spec.action.num_branches();
   RowMatrix obs(int64_t(rows.size()), obs_size_);
@@ -33,11 +34,22 @@ void NetworkPolicy::act(BehaviorBuffers& buf) {
   }
 }
 
-void RandomPolicy::act(BehaviorBuffers& buf) {
+std::string NetworkPolicy::engine_state() const {
+  std::ostringstream os;
+  os << rng_;
+  return os.str();
+}
+
+void NetworkPolicy::set_engine_state(const std::string& text) {
+  std::istringstream is(text);
+  is >> rng_;
+}
+
+void RandomPolicy::act(BehaviorBuffers& buf, const std::vector<uint8_t>* only) {
   const auto& a = buf.spec.action;
   const int m = a.mask_size(), c = a.continuous_size, k = a.num_branches();
   for (int r = 0; r < buf.rows; ++r) {
-    if (!needs_action(buf.step_type[r])) continue;
+    if (!needs_action(buf.step_type[r]) || (only && !(*only)[r])) continue;
     for (int j = 0; j < c; ++j)
       buf.continuous_actions[size_t(r) * c + j] = float(2.0 * uniform01(rng_) - 1.0);
     int offset = 0;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "rl/core/fast_actor.h"
@@ -15,8 +16,9 @@ namespace rlt {
 class BehaviorPolicy {
  public:
   virtual ~BehaviorPolicy() = default;
-  // writes an action for every row of `buf` that needs one
-  virtual void act(BehaviorBuffers& buf) = 0;
+  // writes an action for every row of `buf` that needs one (and, when `rows` is given, whose
+  // entry is 1)
+  virtual void act(BehaviorBuffers& buf, const std::vector<uint8_t>* rows = nullptr) = 0;
 };
 
 // A trained actor (weights copied into a FastActor).
@@ -24,7 +26,10 @@ class NetworkPolicy : public BehaviorPolicy {
  public:
   NetworkPolicy(FastActor actor, int obs_size, bool deterministic, uint64_t seed)
       : actor_(std::move(actor)), obs_size_(obs_size), deterministic_(deterministic), rng_(seed) {}
-  void act(BehaviorBuffers& buf) override;
+  void act(BehaviorBuffers& buf, const std::vector<uint8_t>* rows = nullptr) override;
+  // the sampling engine as text (checkpoints)
+  std::string engine_state() const;
+  void set_engine_state(const std::string& text);
 
  private:
   FastActor actor_;
@@ -37,7 +42,7 @@ class NetworkPolicy : public BehaviorPolicy {
 class RandomPolicy : public BehaviorPolicy {
  public:
   explicit RandomPolicy(uint64_t seed) : rng_(seed) {}
-  void act(BehaviorBuffers& buf) override;
+  void act(BehaviorBuffers& buf, const std::vector<uint8_t>* rows = nullptr) override;
 
  private:
   std::mt19937_64 rng_;

@@ -103,6 +103,9 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     trainers_.push_back(make_trainer(bs, bc, env_->buffers(b).rows,
                                                      seed_ * 1000003 + 17 * b + 1, spec.name));
   }
+  std::vector<OnPolicyTrainer*> trainer_ptrs;
+  for (auto& t : trainers_) trainer_ptrs.push_back(t.get());
+  self_play_ = std::make_unique<SelfPlay>(trainer_ptrs, seed_ * 7717 + 3);
   summary_returns_.resize(trainers_.size());
   summary_group_returns_.resize(trainers_.size());
   summary_metrics_.resize(trainers_.size());
@@ -176,7 +179,15 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
   while (!all_finished()) {
     // act, step, learn
     auto t0 = Clock::now();
-    for (int b = 0; b < nb; ++b) trainers_[b]->act(env_->buffers(b));
+    std::vector<BehaviorBuffers*> buffers;
+    for (int b = 0; b < nb; ++b) buffers.push_back(&env_->buffers(b));
+    if (self_play_->enabled()) {
+      self_play_->select_rows(buffers, learner_rows_);
+      for (int b = 0; b < nb; ++b) trainers_[b]->act(env_->buffers(b), &learner_rows_[b]);
+      self_play_->act_opponents(buffers, learner_rows_);
+    } else {
+      for (int b = 0; b < nb; ++b) trainers_[b]->act(env_->buffers(b));
+    }
     result.acting_seconds += seconds_since(t0);
     t0 = Clock::now();
     env_->step();
@@ -198,12 +209,15 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
         if (recent_returns_[b].size() > kRecentEpisodes) recent_returns_[b].pop_front();
       }
     }
-    for (const auto& f : env_->take_finished_episodes())
+    if (self_play_->enabled()) self_play_->after_step(buffers, learner_rows_);
+    for (const auto& f : env_->take_finished_episodes()) {
+      if (options_.on_env_episode) options_.on_env_episode(f.metrics);
       for (auto& window : summary_metrics_)
         for (const auto& [name, value] : f.metrics) {
           window[name].first += value;
           window[name].second += 1;
         }
+    }
     result.trajectory_seconds += seconds_since(t0);
     for (int b = 0; b < nb; ++b) {
       auto& t = *trainers_[b];
@@ -267,6 +281,11 @@ void TrainingRun::save_checkpoint() {
     write_vector(ba, "window.lengths", update_window_[b].lengths);
     archive.write("behavior." + trainers_[b]->behavior(), ba);
   }
+  if (self_play_->enabled()) {
+    torch::serialize::OutputArchive sp;
+    self_play_->save(sp);
+    archive.write("selfplay", sp);
+  }
   CheckpointEntry entry;
   entry.index = boundary_index_;
   entry.file = "checkpoints/checkpoint-" + std::to_string(boundary_index_) + ".pt";
@@ -311,6 +330,12 @@ void TrainingRun::load_checkpoint(const std::string& path, bool weights_only) {
     update_window_[b].lengths = read_vector<float>(ba, "window.lengths");
   }
   if (!weights_only) {
+    if (self_play_->enabled()) {
+      torch::serialize::InputArchive sp;
+      if (!archive.try_read("selfplay", sp))
+        throw std::runtime_error("checkpoint " + path + " has no self-play state");
+      self_play_->load(sp);
+    }
     boundary_index_ = read_vector<int64_t>(archive, "run.boundary_index").at(0);
     elapsed_before_ = read_vector<double>(archive, "run.elapsed").at(0);
   }
@@ -348,6 +373,7 @@ void TrainingRun::summarize(int b) {
       os << " Mean Group Reward: " << mean_of(group) << ".";
     os << " Episodes: " << returns.size() << ".";
   }
+  if (t.config().self_play) os << " ELO: " << self_play_->elo(b) << ".";
   for (const auto& [name, sum_count] : summary_metrics_[b])
     os << " " << name << ": " << sum_count.first / sum_count.second << ".";
   const double frac = double(t.step()) / double(t.config().max_steps);

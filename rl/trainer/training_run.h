@@ -20,6 +20,7 @@
 #include "rl/config/run_config.h"
 #include "rl/env_api/vector_env.h"
 #include "rl/trainer/on_policy_trainer.h"
+#include "rl/selfplay/self_play.h"
 #include "rl/trainer/run_folder.h"
 
 namespace rlt {
@@ -38,6 +39,8 @@ struct TrainOptions {
   bool progress = true;           // progress indicator on a terminal
   // called for every finished agent episode: (behavior index, behavior's step, episode return)
   std::function<void(int, int64_t, float)> on_episode;
+  // called for every finished env episode with the env's episode metrics
+  std::function<void(const EpisodeMetrics&)> on_env_episode;
 };
 
 struct TrainResult {
@@ -64,6 +67,7 @@ class TrainingRun {
   OnPolicyTrainer& trainer(int behavior) { return *trainers_[behavior]; }
   int num_trainers() const { return static_cast<int>(trainers_.size()); }
   const RunFolder* folder() const { return folder_.get(); }
+  const SelfPlay& self_play() const { return *self_play_; }
   // returns of the newest finished agent episodes of behavior `b` (at most kRecentEpisodes)
   const std::deque<float>& recent_returns(int b) const { return recent_returns_[b]; }
   static constexpr size_t kRecentEpisodes = 100;
@@ -85,6 +89,8 @@ class TrainingRun {
   std::unique_ptr<RunFolder> folder_;
   std::unique_ptr<VectorEnv> env_;
   std::vector<std::unique_ptr<OnPolicyTrainer>> trainers_;
+  std::unique_ptr<SelfPlay> self_play_;
+  std::vector<std::vector<uint8_t>> learner_rows_;  // per behavior: rows that act for learning
   TrainingStatus status_;
   int64_t boundary_index_ = 0;
   double elapsed_before_ = 0;  // seconds trained before a resume

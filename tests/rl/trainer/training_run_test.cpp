@@ -15,6 +15,7 @@
 #include "rl/core/bad_numbers.h"
 #include "rl/env_api/env_registry.h"
 #include "rl/trainer/saved_run.h"
+#include "rl/selfplay/self_play.h"
 
 namespace fs = std::filesystem;
 
@@ -179,6 +180,34 @@ INSTANTIATE_TEST_SUITE_P(Envs, ResumeTest,
                                            ResumeCase{"Pendulum", "Pendulum", true},
                                            ResumeCase{"HybridReach", "HybridReach", true},
                                            ResumeCase{"MaskedChoice", "MaskedChoice", false}));
+
+TEST_F(TrainingRunTest, SelfPlayPoolEloAndLearningTeamSurviveResume) {
+  auto config = [&] {
+    RunConfig c = small_config("Duel", "Duelist", 4000, 1000);
+    SelfPlaySettings sp;
+    sp.save_steps = 300;
+    sp.team_change = 700;
+    sp.swap_steps = 200;
+    sp.window = 3;
+    c.behaviors.at("Duelist").self_play = sp;
+    return c;
+  };
+  TrainingRun whole(config(), options("sp_whole"));
+  whole.train();
+  {
+    TrainingRun first(config(), options("sp_split"));
+    first.train(/*stop_after_boundaries=*/2);
+  }
+  auto opt = options("sp_split");
+  opt.resume = true;
+  TrainingRun resumed(config(), opt);
+  resumed.train();
+  auto expected = parameters(whole), actual = parameters(resumed);
+  for (size_t i = 0; i < expected.size(); ++i) EXPECT_TRUE(torch::equal(expected[i], actual[i])) << i;
+  EXPECT_EQ(whole.self_play().elo(0), resumed.self_play().elo(0));
+  EXPECT_NE(whole.self_play().elo(0), 1200.0);  // games were played and rated
+  EXPECT_EQ(whole.self_play().learning_team_name(), resumed.self_play().learning_team_name());
+}
 
 TEST_F(TrainingRunTest, WritesTheRunFolder) {
   TrainingRun run(small_config("CartPole", "CartPole", 2500, 1000), options("folder"));
