@@ -85,7 +85,9 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
 
   // the environment and one trainer per behavior (all validation before anything is written)
   env_ = std::make_unique<VectorEnv>(es.env_id, es.num_envs, seed_, es.params, std::min(threads, es.num_envs));
-  env_->set_parameters(EnvironmentParameterManager(config_.environment_parameters).sample(seed_));
+  parameters_ = EnvironmentParameterManager(config_.environment_parameters);
+  parameter_rng_.seed(seed_ * 6151 + 11);
+  env_->set_parameters(parameters_.sample(parameter_rng_));  // validates the names now
   const EnvSpec& spec = env_->spec();
   for (const auto& [name, b] : config_.behaviors)
     if (spec.behavior_index(name) < 0) {
@@ -171,6 +173,7 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
   auto all_finished = [&] {
     return std::all_of(trainers_.begin(), trainers_.end(), [](auto& t) { return t->finished(); });
   };
+  sample_all_parameters();
   env_->reseed_and_reset(boundary_seed(boundary_index_));
   using Clock = std::chrono::steady_clock;
   auto seconds_since = [](Clock::time_point t) {
@@ -194,9 +197,10 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
     result.env_seconds += seconds_since(t0);
     result.env_steps += env_->num_envs();
     t0 = Clock::now();
+    std::vector<EpisodeStats> episodes(nb);
     for (int b = 0; b < nb; ++b) {
       trainers_[b]->observe(env_->buffers(b));
-      auto ep = trainers_[b]->take_episode_stats();
+      auto& ep = episodes[b] = trainers_[b]->take_episode_stats();
       summary_returns_[b].insert(summary_returns_[b].end(), ep.returns.begin(), ep.returns.end());
       summary_group_returns_[b].insert(summary_group_returns_[b].end(), ep.group_returns.begin(),
                                        ep.group_returns.end());
@@ -210,7 +214,8 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
       }
     }
     if (self_play_->enabled()) self_play_->after_step(buffers, learner_rows_);
-    for (const auto& f : env_->take_finished_episodes()) {
+    const auto finished = env_->take_finished_episodes();
+    for (const auto& f : finished) {
       if (options_.on_env_episode) options_.on_env_episode(f.metrics);
       for (auto& window : summary_metrics_)
         for (const auto& [name, value] : f.metrics) {
@@ -218,6 +223,7 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
           window[name].second += 1;
         }
     }
+    update_curriculum(finished, episodes);
     result.trajectory_seconds += seconds_since(t0);
     for (int b = 0; b < nb; ++b) {
       auto& t = *trainers_[b];
@@ -265,7 +271,35 @@ void TrainingRun::boundary(bool final) {
       folder_->write_status(status_);
     }
   }
-  if (!final) env_->reseed_and_reset(boundary_seed(boundary_index_));
+  if (!final) {
+    sample_all_parameters();
+    env_->reseed_and_reset(boundary_seed(boundary_index_));
+  }
+}
+
+void TrainingRun::sample_all_parameters() {
+  if (parameters_.empty()) return;
+  for (int i = 0; i < env_->num_envs(); ++i) env_->set_parameters(i, parameters_.sample(parameter_rng_));
+}
+
+void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished,
+                                    const std::vector<EpisodeStats>& episodes) {
+  if (parameters_.empty()) return;
+  for (int b = 0; b < num_trainers(); ++b)
+    for (float r : episodes[b].returns) parameters_.add_episode_reward(trainers_[b]->behavior(), r);
+  std::map<std::string, BehaviorProgress> progress;
+  for (auto& t : trainers_) progress[t->behavior()] = {t->step(), t->config().max_steps};
+  const LessonUpdate u = parameters_.update(progress);
+  if (u.changed && u.require_reset) {
+    // a lesson that asks for it restarts every episode now, from a deterministic point
+    for (int b = 0; b < num_trainers(); ++b) trainers_[b]->interrupt_all(env_->buffers(b));
+    ++lesson_resets_;
+    sample_all_parameters();
+    env_->reseed_and_reset(boundary_seed(boundary_index_) ^ (uint64_t(lesson_resets_) << 40));
+    return;
+  }
+  // instances that just ended an episode get fresh values for their next reset
+  for (const auto& f : finished) env_->set_parameters(f.env_index, parameters_.sample(parameter_rng_));
 }
 
 void TrainingRun::save_checkpoint() {
@@ -280,6 +314,13 @@ void TrainingRun::save_checkpoint() {
     write_vector(ba, "window.returns", update_window_[b].returns);
     write_vector(ba, "window.lengths", update_window_[b].lengths);
     archive.write("behavior." + trainers_[b]->behavior(), ba);
+  }
+  write_string(archive, "run.parameters", parameters_.serialize());
+  write_vector(archive, "run.lesson_resets", std::vector<int64_t>{lesson_resets_});
+  {
+    std::ostringstream rng;
+    rng << parameter_rng_;
+    write_string(archive, "run.parameter_rng", rng.str());
   }
   if (self_play_->enabled()) {
     torch::serialize::OutputArchive sp;
@@ -336,6 +377,10 @@ void TrainingRun::load_checkpoint(const std::string& path, bool weights_only) {
         throw std::runtime_error("checkpoint " + path + " has no self-play state");
       self_play_->load(sp);
     }
+    parameters_.deserialize(read_string(archive, "run.parameters"));
+    lesson_resets_ = read_vector<int64_t>(archive, "run.lesson_resets").at(0);
+    std::istringstream rng(read_string(archive, "run.parameter_rng"));
+    rng >> parameter_rng_;
     boundary_index_ = read_vector<int64_t>(archive, "run.boundary_index").at(0);
     elapsed_before_ = read_vector<double>(archive, "run.elapsed").at(0);
   }
@@ -374,6 +419,7 @@ void TrainingRun::summarize(int b) {
     os << " Episodes: " << returns.size() << ".";
   }
   if (t.config().self_play) os << " ELO: " << self_play_->elo(b) << ".";
+  for (const auto& [name, lesson] : parameters_.lessons()) os << " Lesson " << name << ": " << lesson << ".";
   for (const auto& [name, sum_count] : summary_metrics_[b])
     os << " " << name << ": " << sum_count.first / sum_count.second << ".";
   const double frac = double(t.step()) / double(t.config().max_steps);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "rl/config/run_config.h"
+#include "rl/curriculum/environment_parameter_manager.h"
 #include "rl/env_api/vector_env.h"
 #include "rl/trainer/on_policy_trainer.h"
 #include "rl/selfplay/self_play.h"
@@ -68,12 +69,18 @@ class TrainingRun {
   int num_trainers() const { return static_cast<int>(trainers_.size()); }
   const RunFolder* folder() const { return folder_.get(); }
   const SelfPlay& self_play() const { return *self_play_; }
+  const EnvironmentParameterManager& parameters() const { return parameters_; }
   // returns of the newest finished agent episodes of behavior `b` (at most kRecentEpisodes)
   const std::deque<float>& recent_returns(int b) const { return recent_returns_[b]; }
   static constexpr size_t kRecentEpisodes = 100;
 
  private:
   void boundary(bool final);
+  // draws every instance's parameters for its next reset
+  void sample_all_parameters();
+  // curriculum: records finished episodes, advances lessons, resets envs when a lesson asks to
+  void update_curriculum(const std::vector<FinishedEpisode>& finished,
+                         const std::vector<EpisodeStats>& episodes);
   void save_checkpoint();
   void load_checkpoint(const std::string& path, bool weights_only);
   void export_policies();
@@ -90,9 +97,12 @@ class TrainingRun {
   std::unique_ptr<VectorEnv> env_;
   std::vector<std::unique_ptr<OnPolicyTrainer>> trainers_;
   std::unique_ptr<SelfPlay> self_play_;
+  EnvironmentParameterManager parameters_;  // environment_parameters: samplers and lessons
+  std::mt19937_64 parameter_rng_;           // sampling at every env reset
   std::vector<std::vector<uint8_t>> learner_rows_;  // per behavior: rows that act for learning
   TrainingStatus status_;
   int64_t boundary_index_ = 0;
+  int64_t lesson_resets_ = 0;  // environment restarts asked by lessons (require_reset)
   double elapsed_before_ = 0;  // seconds trained before a resume
   std::chrono::steady_clock::time_point start_;
   std::vector<int64_t> next_summary_, next_checkpoint_;  // per behavior
