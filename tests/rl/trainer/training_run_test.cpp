@@ -209,6 +209,51 @@ TEST_F(TrainingRunTest, SelfPlayPoolEloAndLearningTeamSurviveResume) {
   EXPECT_EQ(whole.self_play().learning_team_name(), resumed.self_play().learning_team_name());
 }
 
+// a two-lesson curriculum on Pursuit's `level`, advanced by the Seeker's progress, with self-play
+RunConfig pursuit_curriculum_config(int64_t max_steps) {
+  std::ostringstream y;
+  y << "default_settings:\n"
+    << "  hyperparameters: {batch_size: 64, buffer_size: 256, num_epoch: 1}\n"
+    << "  network_settings: {hidden_units: 16, num_layers: 1}\n"
+    << "  time_horizon: 32\n  max_steps: " << max_steps << "\n  summary_freq: 100000\n"
+    << "  checkpoint_interval: 1000\n"
+    << "  self_play: {save_steps: 300, team_change: 500, swap_steps: 200, window: 3}\n"
+    << "behaviors:\n  Seeker: {trainer_type: poca}\n  Hider: {trainer_type: ppo}\n"
+    << "environment_parameters:\n  level:\n    curriculum:\n"
+    << "      - name: easy\n        value: 1\n"
+    << "        completion_criteria: {measure: progress, behavior: Seeker, threshold: 0.5}\n"
+    << "      - name: hard\n        value: 3\n"
+    << "env_settings: {env_id: Pursuit, num_envs: 2, seed: 4}\n";
+  return load_run_config_from_string(y.str(), "curriculum.yaml");
+}
+
+TEST_F(TrainingRunTest, CurriculumCountsTheLearningBehaviorsStepsAndSurvivesResume) {
+  // Seeker steps advance only while seekers learn (self-play alternates with hiders every 500),
+  // and the lesson changes exactly when the Seeker's progress passes 0.5
+  TrainingRun whole(pursuit_curriculum_config(2000), options("cur_whole"));
+  const int seeker = whole.trainer(0).behavior() == "Seeker" ? 0 : 1;
+  whole.train(/*stop_after_boundaries=*/1);
+  const int64_t seeker_steps = whole.trainer(seeker).step();
+  EXPECT_LT(seeker_steps, whole.trainer(1 - seeker).step() + 1000);
+  EXPECT_EQ(whole.parameters().lessons().at("level"), seeker_steps > 1000 ? 1 : 0);
+  whole.train();
+  EXPECT_EQ(whole.parameters().lessons().at("level"), 1);
+  // the same run stopped after its first checkpoint and resumed
+  {
+    TrainingRun first(pursuit_curriculum_config(2000), options("cur_split"));
+    first.train(/*stop_after_boundaries=*/2);
+  }
+  auto resume = options("cur_split");
+  resume.resume = true;
+  TrainingRun resumed(pursuit_curriculum_config(2000), resume);
+  EXPECT_EQ(resumed.parameters().serialize().empty(), false);
+  resumed.train();
+  EXPECT_EQ(resumed.parameters().lessons().at("level"), 1);
+  EXPECT_EQ(resumed.parameters().serialize(), whole.parameters().serialize());
+  auto a = parameters(whole), b = parameters(resumed);
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(torch::equal(a[i], b[i])) << i;
+}
+
 TEST_F(TrainingRunTest, WritesTheRunFolder) {
   TrainingRun run(small_config("CartPole", "CartPole", 2500, 1000), options("folder"));
   run.train();
