@@ -13,7 +13,9 @@ namespace rlt {
 const char* const kEvalHelp = R"(Usage: rlt eval RUN_DIR [options]
 
 Plays episodes with the newest checkpoint of a training run and reports, per behavior, the mean and
-standard deviation of the agents' episode returns and the mean of every episode metric of the env.
+standard deviation of the agents' episode returns and the mean of every episode metric of the env
+(e.g. success_rate, tag_rate). Environment parameters are those of the run at the curriculum
+lesson its checkpoint had reached.
 
 Options:
   --episodes N       episodes to play (default 10)
@@ -34,7 +36,9 @@ int run_eval(const std::vector<std::string>& args) {
   SavedRun run = load_saved_run(cl.positional()[0]);
   const auto& es = run.config.env_settings;
   VectorEnv env(es.env_id, num_envs, seed, es.params, 1);
-  env.set_parameters(EnvironmentParameterManager(run.config.environment_parameters).sample(seed));
+  // the run's parameters at the lessons it had reached, drawn for each instance
+  std::mt19937_64 parameter_rng(seed);
+  for (int i = 0; i < num_envs; ++i) env.set_parameters(i, run.parameters.sample(parameter_rng));
   std::vector<std::unique_ptr<BehaviorPolicy>> policies;
   for (size_t b = 0; b < run.trainers.size(); ++b) {
     auto& t = *run.trainers[b];

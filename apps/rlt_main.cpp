@@ -9,7 +9,7 @@
 
 namespace {
 
-const char* kHelp = R"(rlt - reinforcement learning toolkit (PPO on LibTorch, C++ environments)
+const char* kHelp = R"(rlt - reinforcement learning toolkit on LibTorch: PPO, MA-POCA, self-play, curricula
 
 Usage: rlt COMMAND [ARGS...]
 

@@ -194,7 +194,7 @@ void Escape::step(StepView& io) {
 }
 
 EpisodeMetrics Escape::episode_metrics() const {
-  return {{"success", success_ ? 1.f : 0.f}, {"sacrificed", guard_alive_ ? 0.f : 1.f}};
+  return {{"success_rate", success_ ? 1.f : 0.f}, {"sacrificed", guard_alive_ ? 0.f : 1.f}};
 }
 
 }  // namespace rlt

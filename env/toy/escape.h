@@ -16,8 +16,8 @@
 //      that cell;
 //   3. pick-up: the first other agent on the key's cell takes the key (possibly in the same step);
 //   4. escape: when the holder stands on the door, every agent still present gets group reward
-//      1 - 0.5 * elapsed / 50, kLast terminated; metric success = 1.
-// After 50 decisions the episode is truncated (kLast, terminated 0, success 0). No other reward.
+//      1 - 0.5 * elapsed / 50, kLast terminated; metric success_rate = 1.
+// After 50 decisions the episode is truncated (kLast, terminated 0, success_rate 0). No other reward.
 // Deliberate difference from DungeonEscape: its escape reward 1 - elapsed / max falls to 0 at the
 // time limit; ours keeps half of it, a clearer signal for a late escape. The guard does not move.
 //
@@ -29,7 +29,8 @@
 //   [8]      key on the floor             [9]     I hold the key       [10] a teammate holds it
 //   [11, 13) door rel
 //   [13, 19) teammates in slots s+1, s+2 (mod 3): rel x, rel y, present (zeros when gone)
-// Metrics: "success" (1 escaped, 0 not), "sacrificed" (1 when the guard was taken out).
+// Metrics: "success_rate" (1 escaped, 0 not; its mean over episodes is the rate), "sacrificed"
+// (1 when the guard was taken out).
 //
 // Parameter: `grid_size` (default 5, 3-8), read at reset.
 //

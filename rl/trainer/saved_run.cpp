@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "rl/config/config_parser.h"
+#include "rl/core/archive_io.h"
 #include "rl/env_api/env_registry.h"
 #include "rl/trainer/trainer_factory.h"
 
@@ -30,6 +31,8 @@ SavedRun load_saved_run(const std::string& run_dir) {
   } catch (const c10::Error& e) {
     throw std::runtime_error("cannot read checkpoint " + run.checkpoint + ": " + e.what_without_backtrace());
   }
+  run.parameters = EnvironmentParameterManager(run.config.environment_parameters);
+  run.parameters.deserialize(read_string(archive, "run.parameters"));
   for (const auto& bs : run.env_spec.behaviors) {
     auto t = make_trainer(bs, behavior_config(run.config, bs.name), bs.agent_slots, 0,
                                           run.env_spec.name);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "rl/config/run_config.h"
+#include "rl/curriculum/environment_parameter_manager.h"
 #include "rl/env_api/spec.h"
 #include "rl/trainer/on_policy_trainer.h"
 #include "rl/trainer/run_folder.h"
@@ -19,6 +20,7 @@ struct SavedRun {
   EnvSpec env_spec;
   std::string checkpoint;                           // path of the checkpoint that was loaded
   std::vector<std::unique_ptr<OnPolicyTrainer>> trainers;  // weights and normalizers loaded
+  EnvironmentParameterManager parameters;  // environment_parameters at the checkpoint's lessons
 };
 
 // Throws with a message naming the folder or file when the run cannot be read.

@@ -99,7 +99,7 @@ std::pair<double, double> play(Escape& env, int episodes, Policy policy) {
       }
     }
     for (int s = 0; s < Escape::kAgents; ++s) finishers += env.agent_present(s);
-    successes += env.episode_metrics().at("success");
+    successes += env.episode_metrics().at("success_rate");
   }
   return {successes / episodes, reward / std::max(finishers, 1)};
 }
@@ -258,7 +258,7 @@ TEST(EscapeTest, SacrificePickUpAndEscape) {
     EXPECT_EQ(rows.reward(s), 0.f) << s;
   }
   EXPECT_EQ(rows.type(0), StepType::kAbsent);
-  EXPECT_EQ(env.episode_metrics().at("success"), 1.f);
+  EXPECT_EQ(env.episode_metrics().at("success_rate"), 1.f);
   EXPECT_EQ(env.episode_metrics().at("sacrificed"), 1.f);
   h.step();
   for (int s = 0; s < 3; ++s) EXPECT_EQ(rows.type(s), StepType::kAbsent);
@@ -275,7 +275,7 @@ TEST(EscapeTest, TheDoorNeedsTheKey) {
   h.step();
   EXPECT_EQ(env.agent_cell(2), (Cell{0, 4}));
   for (int s = 0; s < 3; ++s) EXPECT_EQ(rows.type(s), StepType::kMid);
-  EXPECT_EQ(env.episode_metrics().at("success"), 0.f);
+  EXPECT_EQ(env.episode_metrics().at("success_rate"), 0.f);
 }
 
 TEST(EscapeTest, TwoAgentsOnTheGuardAtOnce) {
@@ -310,7 +310,7 @@ TEST(EscapeTest, TruncatedAfterFiftyDecisions) {
       EXPECT_EQ(rows.group_reward(s), 0.f);
     }
   }
-  EXPECT_EQ(env.episode_metrics().at("success"), 0.f);
+  EXPECT_EQ(env.episode_metrics().at("success_rate"), 0.f);
   EXPECT_EQ(env.episode_metrics().at("sacrificed"), 0.f);
 }
 

@@ -29,9 +29,9 @@ double train_and_evaluate(const std::string& config_path, int64_t steps) {
   auto& t = run.trainer(0);
   policies.push_back(std::make_unique<NetworkPolicy>(t.fast_actor(), t.obs_size(), false, 7));
   Evaluation ev = evaluate(env, policies, 200);
-  std::cout << config_path << " after " << steps << " steps: success " << ev.metrics.at("success")
+  std::cout << config_path << " after " << steps << " steps: success " << ev.metrics.at("success_rate")
             << ", sacrificed " << ev.metrics.at("sacrificed") << "\n";
-  return ev.metrics.at("success");
+  return ev.metrics.at("success_rate");
 }
 
 TEST(PocaLearning, PocaSolvesEscapeAndIndependentPpoDoesWorse) {
