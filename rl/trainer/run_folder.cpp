@@ -49,7 +49,13 @@ void write_file_atomically(const std::string& path, const std::string& contents)
 void RunFolder::write_status(const TrainingStatus& s) const {
   std::ostringstream os;
   os << "{\n  \"run_id\": " << json_string(s.run_id) << ",\n  \"finished\": "
-     << (s.finished ? "true" : "false") << ",\n  \"checkpoints\": [";
+     << (s.finished ? "true" : "false") << ",\n  \"lessons\": {";
+  size_t k = 0;
+  for (const auto& [name, lesson] : s.lessons) os << (k++ ? ", " : "") << json_string(name) << ": " << lesson;
+  os << "},\n  \"elo\": {";
+  k = 0;
+  for (const auto& [name, elo] : s.elo) os << (k++ ? ", " : "") << json_string(name) << ": " << json_number(elo);
+  os << "},\n  \"checkpoints\": [";
   for (size_t i = 0; i < s.checkpoints.size(); ++i) {
     const auto& c = s.checkpoints[i];
     os << (i ? "," : "") << "\n    {\"index\": " << c.index << ", \"file\": " << json_string(c.file)
@@ -70,6 +76,8 @@ TrainingStatus RunFolder::read_status() const {
     YAML::Node root = YAML::LoadFile(status_path());
     s.run_id = root["run_id"].as<std::string>();
     s.finished = root["finished"].as<bool>();
+    for (const auto& kv : root["lessons"]) s.lessons[kv.first.as<std::string>()] = kv.second.as<int>();
+    for (const auto& kv : root["elo"]) s.elo[kv.first.as<std::string>()] = kv.second.as<double>();
     for (const auto& c : root["checkpoints"]) {
       CheckpointEntry e;
       e.index = c["index"].as<int64_t>();

@@ -1,6 +1,7 @@
 // The folder of one training run, results/<run-id>/:
 //   configuration.yaml     the resolved configuration
-//   training_status.json   steps per behavior, checkpoints (newest last), whether training finished
+//   training_status.json   checkpoints (newest last) with steps per behavior, curriculum lessons,
+//                          self-play ELO, whether training finished
 //   checkpoints/           checkpoint-<index>.pt, written atomically (temporary file, then rename)
 //   metrics/<Behavior>.csv one row per update: losses, schedules, episodes since the last row
 //   <Behavior>.pt          the exported TorchScript policy
@@ -22,6 +23,8 @@ struct CheckpointEntry {
 
 struct TrainingStatus {
   std::string run_id;
+  std::map<std::string, int> lessons;    // curriculum lesson per parameter, at the newest checkpoint
+  std::map<std::string, double> elo;     // self-play rating per behavior, at the newest checkpoint
   std::vector<CheckpointEntry> checkpoints;  // oldest first
   bool finished = false;
 };

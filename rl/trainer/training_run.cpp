@@ -27,8 +27,8 @@ namespace rlt {
 namespace {
 
 const char* kMetricsHeader =
-    "step,elapsed_s,episodes,mean_return,std_return,mean_length,policy_loss,value_loss,entropy,"
-    "learning_rate,epsilon,beta\n";
+    "step,elapsed_s,episodes,mean_return,std_return,mean_length,policy_loss,value_loss,"
+    "baseline_loss,entropy,learning_rate,epsilon,beta\n";
 
 double mean_of(const std::vector<float>& v) {
   double s = 0;
@@ -337,6 +337,10 @@ void TrainingRun::save_checkpoint() {
   if (std::rename((path + ".tmp").c_str(), path.c_str()) != 0)
     throw std::runtime_error("cannot move " + path + ".tmp to " + path);
   status_.checkpoints.push_back(entry);
+  status_.lessons = parameters_.lessons();
+  status_.elo.clear();
+  for (int b = 0; b < num_trainers(); ++b)
+    if (trainers_[b]->config().self_play) status_.elo[trainers_[b]->behavior()] = self_play_->elo(b);
   // newest keep_checkpoints stay; the status names only files that exist
   int keep = 1;
   for (auto& t : trainers_) keep = std::max(keep, t->config().keep_checkpoints);
@@ -397,8 +401,8 @@ void TrainingRun::log_update(int b, const UpdateStats& s) {
     std::ofstream out(folder_->metrics_path(trainers_[b]->behavior()), std::ios::app);
     out << trainers_[b]->step() << ',' << elapsed() << ',' << w.returns.size() << ','
         << mean_of(w.returns) << ',' << std_of(w.returns) << ',' << mean_of(w.lengths) << ','
-        << s.policy_loss << ',' << s.value_loss << ',' << s.entropy << ',' << s.learning_rate << ','
-        << s.epsilon << ',' << s.beta << '\n';
+        << s.policy_loss << ',' << s.value_loss << ',' << s.baseline_loss << ',' << s.entropy << ','
+        << s.learning_rate << ',' << s.epsilon << ',' << s.beta << '\n';
   }
   w = EpisodeStats{};
 }

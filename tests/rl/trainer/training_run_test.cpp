@@ -207,6 +207,9 @@ TEST_F(TrainingRunTest, SelfPlayPoolEloAndLearningTeamSurviveResume) {
   EXPECT_EQ(whole.self_play().elo(0), resumed.self_play().elo(0));
   EXPECT_NE(whole.self_play().elo(0), 1200.0);  // games were played and rated
   EXPECT_EQ(whole.self_play().learning_team_name(), resumed.self_play().learning_team_name());
+  // the status file reports the rating
+  auto status = RunFolder(dir_.string(), "sp_split").read_status();
+  EXPECT_NEAR(status.elo.at("Duelist"), resumed.self_play().elo(0), 1e-6);  // 10 digits in JSON
 }
 
 // a two-lesson curriculum on Pursuit's `level`, advanced by the Seeker's progress, with self-play
@@ -250,6 +253,7 @@ TEST_F(TrainingRunTest, CurriculumCountsTheLearningBehaviorsStepsAndSurvivesResu
   resumed.train();
   EXPECT_EQ(resumed.parameters().lessons().at("level"), 1);
   EXPECT_EQ(resumed.parameters().serialize(), whole.parameters().serialize());
+  EXPECT_EQ(RunFolder(dir_.string(), "cur_split").read_status().lessons.at("level"), 1);
   auto a = parameters(whole), b = parameters(resumed);
   for (size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(torch::equal(a[i], b[i])) << i;
 }
