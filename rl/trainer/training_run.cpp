@@ -138,7 +138,13 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     folder_->create(cs.force);
     status_ = TrainingStatus{};
     status_.run_id = cs.run_id;
-    if (!init_checkpoint.empty()) load_checkpoint(init_checkpoint, true);
+    if (!init_checkpoint.empty()) {
+      load_checkpoint(init_checkpoint, true);
+      // the opponent pool starts from the loaded weights
+      std::vector<OnPolicyTrainer*> ptrs;
+      for (auto& t : trainers_) ptrs.push_back(t.get());
+      self_play_ = std::make_unique<SelfPlay>(ptrs, seed_ * 7717 + 3);
+    }
     for (auto& t : trainers_) write_file_atomically(folder_->metrics_path(t->behavior()), kMetricsHeader);
   }
   write_file_atomically(folder_->config_path(), run_config_to_yaml(config_));
