@@ -1,0 +1,67 @@
+// RaySensor: sphere casts in the layout of Unity ML-Agents' RayPerceptionSensor3D
+// (com.unity.ml-agents/Runtime/Sensors/RayPerceptionSensor.cs), SPEC.md section 6 "rays".
+//
+// Rays: 2 * rays_per_direction + 1 (17 by default), horizontal, from the centre of `self`.
+// Ray i has the ML-Agents angle theta_i (degrees, 90 = straight ahead), delta =
+// max_ray_degrees / rays_per_direction:
+//   theta_0 = 90; theta_{2k+1} = 90 - (k+1) delta (towards `right`); theta_{2k+2} = 90 + (k+1)
+//   delta
+// for k = 0 .. rays_per_direction - 1, and direction_i = cos(theta_i) right + sin(theta_i) forward,
+// with forward and right the horizontal axes of DroneBody (forward = basis * +z, right = forward x
+// up). So the order is forward, then right/left pairs fanning out. With the default 180 degrees
+// and 8 per direction (delta 22.5) the rays cover 360 degrees and, as in ML-Agents, the last pair
+// both point straight back.
+// Each ray sweeps a sphere of radius sphere_radius from the centre over ray_length metres and keeps
+// the closest hit, ignoring `self`. A body that already overlaps the sphere at the start may be
+// missed (Bullet's sweeps report what they run into); around a drone of radius 0.35 m nothing
+// overlaps a 0.3 m sphere unless bodies interpenetrate.
+// Output per ray, kNumTags + 2 = 7 floats, rays in the order above (119 floats by default):
+//   [0, kNumTags): one-hot of the hit body's Tag (kWall, kProp, kObstacle, kHider, kSeeker), zeros
+//                  on a miss;
+//   kNumTags:      1 on a miss, else 0;
+//   kNumTags + 1:  hit fraction in [0, 1], the fraction of ray_length the sphere's centre travelled
+//                  before touching (1 on a miss). A plane facing the ray at distance d from the
+//                  centre gives (d - sphere_radius) / ray_length.
+#ifndef RLT_ENV_DRONE_RAY_SENSOR_H_
+#define RLT_ENV_DRONE_RAY_SENSOR_H_
+
+#include <btBulletDynamicsCommon.h>
+
+#include <vector>
+
+#include "env/drone/bullet_world.h"
+
+namespace rlt::drone {
+
+struct RaySensorParams {
+  int rays_per_direction = 8;      // rays on each side of forward (0-32)
+  float max_ray_degrees = 180.0f;  // angle of the outermost pair from forward (degrees, (0, 180])
+  float ray_length = 20.0f;        // sweep length (m)
+  float sphere_radius = 0.3f;      // radius of the swept sphere (m); 0 for thin rays
+};
+
+class RaySensor {
+ public:
+  static constexpr int kFloatsPerRay = kNumTags + 2;
+
+  explicit RaySensor(const RaySensorParams& params = {});
+
+  int num_rays() const { return static_cast<int>(angles_.size()); }
+  int size() const { return num_rays() * kFloatsPerRay; }  // floats written by observe()
+  // the ML-Agents angle of ray i (degrees, 90 = forward)
+  float angle(int i) const { return angles_[i]; }
+  // world direction of ray i for a body with this pose (unit, horizontal)
+  btVector3 direction(const btTransform& pose, int i) const;
+
+  // sweeps every ray from `self` in `world` and writes size() floats to `out`
+  void observe(const btCollisionWorld& world, const btCollisionObject& self, float* out) const;
+
+ private:
+  RaySensorParams params_;
+  std::vector<float> angles_;  // [num_rays] degrees
+  btSphereShape sphere_;
+};
+
+}  // namespace rlt::drone
+
+#endif  // RLT_ENV_DRONE_RAY_SENSOR_H_
