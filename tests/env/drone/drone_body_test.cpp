@@ -34,27 +34,27 @@ float fire_at_thin_wall(float speed, float start, bool ccd) {
 
 TEST(DroneBodyTest, CcdStopsTenTimesTopSpeedAtTheThinnestWall) {
   const float top = DroneParams{}.max_speed;
-  int passed_with_ccd = 0, passed_without = 0, shots = 0;
   for (float factor : {10.0f, 20.0f, 40.0f}) {
-    for (int k = 0; k < 20; ++k) {
+    int passed_with_ccd = 0, passed_without = 0;
+    const int shots = 20;
+    for (int k = 0; k < shots; ++k) {
       // starting phases spread over one frame of travel so that some frames straddle the wall
-      const float start = -3.0f - k * (factor * top / 50.0f) / 20.0f;
+      const float start = -3.0f - k * (factor * top / 50.0f) / shots;
       const float with_ccd = fire_at_thin_wall(factor * top, start, true);
       const float without = fire_at_thin_wall(factor * top, start, false);
-      // never past the wall's near face with a radius of clearance to spare
+      // never past the wall's near face
       EXPECT_LT(with_ccd, -kWallHalf) << factor << "x top speed from z = " << start;
       passed_with_ccd += with_ccd > 0;
       passed_without += without > 0;
-      ++shots;
     }
+    std::printf(
+        "%.0fx top speed (%.0f m/s) at a 0.1 m wall: %d of %d shots passed with CCD, %d "
+        "without\n",
+        factor, factor * top, passed_with_ccd, shots, passed_without);
+    EXPECT_EQ(passed_with_ccd, 0) << factor << "x";
+    // the negative control: without CCD the same shots go through (11, 16, 18 of 20 measured)
+    EXPECT_GE(passed_without, shots / 4) << factor << "x";
   }
-  std::printf(
-      "tunnelling at 10/20/40x top speed (%.0f m/s): %d of %d shots passed with CCD, %d of %d "
-      "without\n",
-      top, passed_with_ccd, shots, passed_without, shots);
-  EXPECT_EQ(passed_with_ccd, 0);
-  // the negative control: without CCD the same shots go through
-  EXPECT_GT(passed_without, shots / 2);
 }
 
 TEST(DroneBodyTest, NoGravityButOtherBodiesFall) {
