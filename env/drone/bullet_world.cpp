@@ -1,6 +1,7 @@
 #include "env/drone/bullet_world.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <stdexcept>
 #include <utility>
 
@@ -25,6 +26,11 @@ void BulletWorld::create() {
 }
 
 void BulletWorld::destroy() {
+  // constraints go first: they reference the bodies
+  for (auto it = constraints_.rbegin(); it != constraints_.rend(); ++it) {
+    if (world_) world_->removeConstraint(it->get());
+  }
+  constraints_.clear();
   // bodies leave the world before anything they reference is freed, newest first
   for (auto it = bodies_.rbegin(); it != bodies_.rend(); ++it) {
     if (world_) world_->removeRigidBody((*it)->body.get());
@@ -40,6 +46,7 @@ void BulletWorld::destroy() {
 void BulletWorld::reset() {
   destroy();
   create();
+  ++epoch_;
 }
 
 void BulletWorld::step_frame() {
@@ -81,8 +88,30 @@ void BulletWorld::remove_body(btRigidBody* body) {
   auto it = std::find_if(bodies_.begin(), bodies_.end(),
                          [body](const auto& owned) { return owned->body.get() == body; });
   if (it == bodies_.end()) throw std::invalid_argument("BulletWorld: body not in this world");
+  for (std::size_t i = constraints_.size(); i-- > 0;) {
+    btTypedConstraint* c = constraints_[i].get();
+    if (&c->getRigidBodyA() == body || &c->getRigidBodyB() == body) remove_constraint(c);
+  }
   world_->removeRigidBody(body);
   bodies_.erase(it);
+}
+
+btTypedConstraint* BulletWorld::add_constraint(std::unique_ptr<btTypedConstraint> constraint,
+                                               bool disable_collisions_between_bodies) {
+  btTypedConstraint* c = constraint.get();
+  world_->addConstraint(c, disable_collisions_between_bodies);
+  constraints_.push_back(std::move(constraint));
+  return c;
+}
+
+void BulletWorld::remove_constraint(btTypedConstraint* constraint) {
+  auto it = std::find_if(constraints_.begin(), constraints_.end(),
+                         [constraint](const auto& owned) { return owned.get() == constraint; });
+  if (it == constraints_.end()) {
+    throw std::invalid_argument("BulletWorld: constraint not in this world");
+  }
+  world_->removeConstraint(constraint);
+  constraints_.erase(it);
 }
 
 }  // namespace rlt::drone

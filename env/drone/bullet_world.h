@@ -7,6 +7,8 @@
 // Bodies: static boxes (walls, floor, ceiling) and dynamic rigid bodies, each tagged with a Tag
 // stored in the collision object's user index (tag_of). The world owns the bodies; the pointers it
 // hands out stay valid until reset() or destruction.
+// Constraints (e.g. a grab) are owned by the world too and are removed before the bodies they join,
+// both in remove_body() and in reset().
 // reset() destroys everything and recreates an empty world with the same parameters, so that the
 // same bodies added in the same order with the same actions give bit-identical trajectories (no
 // solver seed, broadphase pair cache or contact manifold survives a reset).
@@ -59,13 +61,20 @@ class BulletWorld {
   // a dynamic body of the given shape (the world takes ownership of the shape)
   btRigidBody* add_dynamic_body(std::unique_ptr<btCollisionShape> shape,
                                 const DynamicBodyDesc& desc);
-  // removes and destroys one body added to this world
+  // removes and destroys one body added to this world (and any constraint joining it)
   void remove_body(btRigidBody* body);
+  // adds a constraint between bodies of this world and takes ownership of it
+  btTypedConstraint* add_constraint(std::unique_ptr<btTypedConstraint> constraint,
+                                    bool disable_collisions_between_bodies = true);
+  // removes and destroys one constraint added to this world
+  void remove_constraint(btTypedConstraint* constraint);
 
   btDiscreteDynamicsWorld& world() { return *world_; }
   const btDiscreteDynamicsWorld& world() const { return *world_; }
   float dt() const { return 1.0f / params_.frame_rate; }
   long frame() const { return frame_; }  // frames since the last reset
+  long epoch() const { return epoch_; }  // number of resets: pointers from an older epoch dangle
+  int num_constraints() const { return static_cast<int>(constraints_.size()); }
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
 
  private:
@@ -83,13 +92,15 @@ class BulletWorld {
 
   WorldParams params_;
   long frame_ = 0;
+  long epoch_ = 0;
   // declaration order is construction order; destroy() tears down in reverse
   std::unique_ptr<btDefaultCollisionConfiguration> configuration_;
   std::unique_ptr<btCollisionDispatcher> dispatcher_;
   std::unique_ptr<btBroadphaseInterface> broadphase_;
   std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
   std::unique_ptr<btDiscreteDynamicsWorld> world_;
-  std::vector<std::unique_ptr<OwnedBody>> bodies_;  // in insertion order
+  std::vector<std::unique_ptr<OwnedBody>> bodies_;               // in insertion order
+  std::vector<std::unique_ptr<btTypedConstraint>> constraints_;  // in insertion order
 };
 
 }  // namespace rlt::drone

@@ -1,0 +1,180 @@
+#include "env/drone/prop.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+namespace rlt::drone {
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+btQuaternion yaw_rotation(float yaw) { return btQuaternion(btVector3(0, 1, 0), yaw); }
+
+// continuous collision detection for a box: sweep when a frame moves it by half its thinnest side
+void enable_ccd(btRigidBody* body, const btVector3& half) {
+  const float thin = std::min({half.x(), half.y(), half.z()});
+  body->setCcdMotionThreshold(0.5f * thin);
+  body->setCcdSweptSphereRadius(0.9f * thin);
+}
+
+// per-body gravity that ignores the world's, set after the body was added
+void set_own_gravity(btRigidBody* body, const btVector3& gravity) {
+  body->setFlags(body->getFlags() | BT_DISABLE_WORLD_GRAVITY);
+  body->setGravity(gravity);
+}
+
+}  // namespace
+
+PropSet::PropSet(BulletWorld& world, const PropParams& params)
+    : world_(world), params_(params), epoch_(world.epoch()) {}
+
+PropSet::~PropSet() {
+  if (world_.epoch() != epoch_) return;  // the world already destroyed our constraints
+  for (Prop& prop : props_) drop(prop);
+}
+
+int PropSet::add(const btVector3& centre, float yaw) { return add(centre, yaw, params_.half); }
+
+int PropSet::add(const btVector3& centre, float yaw, const btVector3& half) {
+  DynamicBodyDesc desc;
+  desc.position = centre;
+  desc.rotation = yaw_rotation(yaw);
+  desc.mass = params_.mass;
+  desc.tag = kProp;
+  Prop prop;
+  prop.half = half;
+  prop.body = world_.add_dynamic_body(std::make_unique<btBoxShape>(half), desc);
+  set_own_gravity(prop.body, params_.gravity);
+  prop.body->setFriction(params_.friction);
+  prop.body->setRestitution(0.0f);
+  prop.body->setDamping(params_.linear_damping, params_.angular_damping);
+  enable_ccd(prop.body, half);
+  props_.push_back(prop);
+  return size() - 1;
+}
+
+btVector3 PropSet::closest_point(const DroneBody& drone, int i) const {
+  const Prop& prop = props_[i];
+  const btTransform& pose = prop.body->getWorldTransform();
+  btVector3 local = pose.invXform(drone.position());
+  for (int k = 0; k < 3; ++k) local[k] = std::clamp(local[k], -prop.half[k], prop.half[k]);
+  return pose * local;
+}
+
+float PropSet::gap(const DroneBody& drone, int i) const {
+  const float d = (closest_point(drone, i) - drone.position()).length();
+  return std::max(0.0f, d - drone.params().radius);
+}
+
+bool PropSet::in_front(const DroneBody& drone, int i) const {
+  const btVector3 to = closest_point(drone, i) - drone.position();
+  const float length = to.length();
+  if (length < 1e-4f) return true;  // the centre is inside the box
+  const float cos_angle = to.dot(drone.forward()) / length;
+  return cos_angle >= std::cos(params_.cone_degrees * kPi / 180.0f);
+}
+
+template <typename Ok>
+int PropSet::nearest(const DroneBody& drone, Ok ok) const {
+  int best = -1;
+  float best_gap = std::numeric_limits<float>::infinity();
+  for (int i = 0; i < size(); ++i) {
+    if (!ok(props_[i])) continue;
+    const float g = gap(drone, i);
+    if (g > params_.reach || g >= best_gap || !in_front(drone, i)) continue;
+    best = i;
+    best_gap = g;
+  }
+  return best;
+}
+
+void PropSet::drop(Prop& prop) {
+  if (prop.grab != nullptr) world_.remove_constraint(prop.grab);
+  prop.grab = nullptr;
+  prop.held_by = nullptr;
+}
+
+int PropSet::held_by(const DroneBody& drone) const {
+  for (int i = 0; i < size(); ++i) {
+    if (props_[i].held_by == &drone.body()) return i;
+  }
+  return -1;
+}
+
+int PropSet::grab(const DroneBody& drone) {
+  const int held = held_by(drone);
+  if (held >= 0) return held;
+  const int i = nearest(drone, [](const Prop& p) { return !p.locked() && p.held_by == nullptr; });
+  if (i < 0) return -1;
+  Prop& prop = props_[i];
+  // the drone's body is owned by the world; the constraint needs it non-const
+  btRigidBody& a = const_cast<btRigidBody&>(drone.body());
+  const btVector3 pivot_in_a = a.getWorldTransform().invXform(prop.position());
+  prop.grab = world_.add_constraint(
+      std::make_unique<btPoint2PointConstraint>(a, *prop.body, pivot_in_a, btVector3(0, 0, 0)),
+      true);
+  prop.held_by = &drone.body();
+  prop.body->activate(true);
+  return i;
+}
+
+int PropSet::release(const DroneBody& drone) {
+  const int i = held_by(drone);
+  if (i >= 0) drop(props_[i]);
+  return i;
+}
+
+int PropSet::lock(const DroneBody& drone, int team) {
+  const int i = nearest(drone, [](const Prop& p) { return !p.locked(); });
+  if (i < 0 || team == kNoTeam) return -1;
+  Prop& prop = props_[i];
+  drop(prop);
+  btRigidBody* body = prop.body;
+  body->setLinearVelocity(btVector3(0, 0, 0));
+  body->setAngularVelocity(btVector3(0, 0, 0));
+  body->clearForces();
+  body->setMassProps(0.0f, btVector3(0, 0, 0));
+  body->setLinearFactor(btVector3(0, 0, 0));
+  body->setAngularFactor(btVector3(0, 0, 0));
+  body->updateInertiaTensor();
+  prop.locked_by = team;
+  return i;
+}
+
+int PropSet::unlock(const DroneBody& drone, int team) {
+  const int i = nearest(drone, [](const Prop& p) { return p.locked(); });
+  if (i < 0 || props_[i].locked_by != team) return -1;
+  Prop& prop = props_[i];
+  btRigidBody* body = prop.body;
+  btVector3 inertia(0, 0, 0);
+  body->getCollisionShape()->calculateLocalInertia(params_.mass, inertia);
+  body->setMassProps(params_.mass, inertia);
+  body->setLinearFactor(btVector3(1, 1, 1));
+  body->setAngularFactor(btVector3(1, 1, 1));
+  body->updateInertiaTensor();
+  set_own_gravity(body, params_.gravity);
+  body->activate(true);
+  prop.locked_by = kNoTeam;
+  return i;
+}
+
+btRigidBody* add_obstacle(BulletWorld& world, const btVector3& centre, float yaw,
+                          const ObstacleParams& params) {
+  DynamicBodyDesc desc;
+  desc.position = centre;
+  desc.rotation = yaw_rotation(yaw);
+  desc.mass = params.mass;
+  desc.tag = kObstacle;
+  btRigidBody* body = world.add_dynamic_body(std::make_unique<btBoxShape>(params.half), desc);
+  set_own_gravity(body, params.gravity);
+  body->setFriction(params.friction);
+  body->setRestitution(0.0f);
+  body->setDamping(params.linear_damping, params.angular_damping);
+  enable_ccd(body, params.half);
+  return body;
+}
+
+}  // namespace rlt::drone
