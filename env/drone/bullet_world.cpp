@@ -114,4 +114,9 @@ void BulletWorld::remove_constraint(btTypedConstraint* constraint) {
   constraints_.erase(it);
 }
 
+bool BulletWorld::has_constraint(const btTypedConstraint* constraint) const {
+  return std::any_of(constraints_.begin(), constraints_.end(),
+                     [constraint](const auto& owned) { return owned.get() == constraint; });
+}
+
 }  // namespace rlt::drone

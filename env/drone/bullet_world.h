@@ -68,6 +68,7 @@ class BulletWorld {
                                     bool disable_collisions_between_bodies = true);
   // removes and destroys one constraint added to this world
   void remove_constraint(btTypedConstraint* constraint);
+  bool has_constraint(const btTypedConstraint* constraint) const;
 
   btDiscreteDynamicsWorld& world() { return *world_; }
   const btDiscreteDynamicsWorld& world() const { return *world_; }

@@ -51,7 +51,7 @@ int PropSet::add(const btVector3& centre, float yaw, const btVector3& half) {
   prop.body->setFriction(params_.friction);
   prop.body->setRestitution(0.0f);
   prop.body->setDamping(params_.linear_damping, params_.angular_damping);
-  enable_ccd(prop.body, half);
+  if (params_.ccd) enable_ccd(prop.body, half);
   props_.push_back(prop);
   return size() - 1;
 }
@@ -92,7 +92,8 @@ int PropSet::nearest(const DroneBody& drone, Ok ok) const {
 }
 
 void PropSet::drop(Prop& prop) {
-  if (prop.grab != nullptr) world_.remove_constraint(prop.grab);
+  // the world may have dropped it already with a removed body
+  if (prop.grab != nullptr && world_.has_constraint(prop.grab)) world_.remove_constraint(prop.grab);
   prop.grab = nullptr;
   prop.held_by = nullptr;
 }

@@ -24,7 +24,9 @@
 // and little damping (0.1), so that they glide and drift once pushed and settle slowly.
 // Lifetime: the props and constraints belong to the world; a PropSet is valid for one world epoch
 // (until BulletWorld::reset()); after a reset build a new one. Its destructor releases its grabs
-// only when the world was not reset in between.
+// only when the world was not reset in between. A drone or prop removed with
+// BulletWorld::remove_body() takes its grab constraint with it; release() the drone afterwards to
+// clear the set's record.
 #ifndef RLT_ENV_DRONE_PROP_H_
 #define RLT_ENV_DRONE_PROP_H_
 
@@ -46,6 +48,7 @@ struct PropParams {
   btVector3 gravity = btVector3(0, 0, 0);  // per-body gravity (m/s^2)
   float reach = 1.5f;                      // largest surface-to-surface gap for grab and lock (m)
   float cone_degrees = 60.0f;              // half angle of the front cone
+  bool ccd = true;  // continuous collision detection (off only to show it matters)
 };
 
 struct ObstacleParams {

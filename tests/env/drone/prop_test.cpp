@@ -169,6 +169,68 @@ TEST(PropTest, LockedPropDoesNotMoveAndOnlyItsTeamUnlocks) {
   EXPECT_GT(moved, 0.5f);
 }
 
+// fires a panel flat-on (along its thin axis) at `speed` at a 0.1 m wall at z = 0; returns the
+// largest z its centre reached
+float fire_prop_at_thin_wall(float speed, float start, bool ccd) {
+  BulletWorld world;
+  world.add_static_box(btVector3(0, 2, 0), btVector3(5, 5, 0.05f), kWall);
+  PropParams params;
+  params.ccd = ccd;
+  PropSet props(world, params);
+  const int p = props.add(btVector3(0, 2, start));
+  props[p].body->setLinearVelocity(btVector3(0, 0, speed));
+  float max_z = start;
+  for (int f = 0; f < 100; ++f) {
+    world.step_frame();
+    max_z = std::max(max_z, static_cast<float>(props[p].position().z()));
+  }
+  return max_z;
+}
+
+TEST(PropTest, CcdStopsAPropFiredAtTenTimesTopSpeed) {
+  const float speed = 10 * DroneParams{}.max_speed;
+  const int shots = 20;
+  int passed_with = 0, passed_without = 0;
+  for (int k = 0; k < shots; ++k) {
+    const float start = -3.0f - k * (speed / 50.0f) / shots;
+    const float with_ccd = fire_prop_at_thin_wall(speed, start, true);
+    EXPECT_LT(with_ccd, -0.05f) << "from z = " << start;
+    passed_with += with_ccd > 0;
+    passed_without += fire_prop_at_thin_wall(speed, start, false) > 0;
+  }
+  std::printf("prop at %.0f m/s at a 0.1 m wall: %d of %d passed with CCD, %d without\n", speed,
+              passed_with, shots, passed_without);
+  EXPECT_EQ(passed_with, 0);
+  EXPECT_GE(passed_without, shots / 4);  // the negative control
+}
+
+TEST(PropTest, LockingAHeldPropReleasesItAndRemovingAPropDropsItsGrab) {
+  BulletWorld world;
+  PropSet props(world);
+  const int a = props.add(btVector3(0, 2, 1.3f));
+  const int b = props.add(btVector3(4, 2, 1.3f));
+  DroneBody hider(world, btVector3(0, 2, 0), 0.0f, kHider);
+  DroneBody other(world, btVector3(0, 2, 2.6f), kPi, kHider);
+  ASSERT_EQ(props.grab(hider), a);
+  ASSERT_EQ(props.lock(other, kHiders), a);  // a teammate locks the prop the hider holds
+  EXPECT_EQ(props.held_by(hider), -1);
+  EXPECT_EQ(world.num_constraints(), 0);
+  const btQuaternion rotation = props[a].body->getWorldTransform().getRotation();
+  fly(world, hider, 50, -1, 0, 0, 1);
+  EXPECT_EQ(props[a].body->getWorldTransform().getRotation(), rotation);
+
+  DroneBody third(world, btVector3(4, 2, 0), 0.0f, kHider);
+  ASSERT_EQ(props.grab(third), b);
+  EXPECT_EQ(world.num_constraints(), 1);
+  const int bodies = world.num_bodies();
+  world.remove_body(&third.body());  // the drone leaves: its constraint goes first
+  EXPECT_EQ(world.num_constraints(), 0);
+  EXPECT_EQ(world.num_bodies(), bodies - 1);
+  EXPECT_EQ(props.release(third), b);  // clears the record only
+  EXPECT_EQ(world.num_constraints(), 0);
+  world.step_frame();
+}
+
 TEST(PropTest, LockedPropCannotBeGrabbedButAnotherCan) {
   BulletWorld world;
   PropSet props(world);
@@ -236,7 +298,7 @@ TEST(PropTest, DronePushesObstacleAway) {
 
 // a scene with walls, two drones, two props and an obstacle; grabs, locks and releases on a
 // schedule; returns the pose bits of every prop and drone per frame
-std::vector<float> run_with_props(BulletWorld& world, int frames) {
+std::vector<float> run_with_props(BulletWorld& world, int frames, std::vector<int>* events) {
   world.add_static_box(btVector3(0, -0.5f, 0), btVector3(6, 0.5f, 6), kWall);
   world.add_static_box(btVector3(5.5f, 2, 0), btVector3(0.5f, 2, 6), kWall);
   world.add_static_box(btVector3(0, 2, 5.5f), btVector3(6, 2, 0.5f), kWall);
@@ -248,13 +310,14 @@ std::vector<float> run_with_props(BulletWorld& world, int frames) {
   DroneBody seeker(world, btVector3(2, 1.2f, -3.2f), 0.0f, kSeeker);
   std::vector<float> trace;
   for (int f = 0; f < frames; ++f) {
-    if (f == 5) props.grab(hider);
-    if (f == 60) props.release(hider);
-    if (f == 80) props.grab(seeker);
-    if (f == 120) props.lock(seeker, kSeekers);
+    // the events, recorded so that the test can check they happened
+    if (f == 5) events->push_back(props.grab(hider));
+    if (f == 10) events->push_back(props.grab(seeker));
+    if (f == 60) events->push_back(props.release(hider));
+    if (f == 120) events->push_back(props.lock(seeker, kSeekers));
     const float t = 0.05f * f;
     hider.apply_action(std::sin(t), std::cos(0.7f * t), 0.3f * std::sin(1.3f * t), 0.5f);
-    seeker.apply_action(0.2f + 0.1f * std::cos(t), 0, 0, -0.3f);
+    seeker.apply_action(0.2f + 0.1f * std::cos(t), 0, 0, f < 10 ? 0.0f : -0.3f);
     world.step_frame();
     for (int i = 0; i < props.size(); ++i) {
       const btTransform& pose = props[i].body->getWorldTransform();
@@ -271,13 +334,16 @@ std::vector<float> run_with_props(BulletWorld& world, int frames) {
 
 TEST(PropTest, ResetWithPropsIsBitIdentical) {
   BulletWorld world;
-  const std::vector<float> first = run_with_props(world, 200);
+  std::vector<int> events, again;
+  const std::vector<float> first = run_with_props(world, 200, &events);
   world.reset();
-  const std::vector<float> second = run_with_props(world, 200);
+  const std::vector<float> second = run_with_props(world, 200, &again);
   world.reset();
-  const std::vector<float> third = run_with_props(world, 200);
+  const std::vector<float> third = run_with_props(world, 200, &again);
   BulletWorld fresh;
-  const std::vector<float> fourth = run_with_props(fresh, 200);
+  const std::vector<float> fourth = run_with_props(fresh, 200, &again);
+  // grab, grab, release and lock all happened
+  EXPECT_EQ(events, (std::vector<int>{0, 1, 0, 1}));
   ASSERT_EQ(first.size(), second.size());
   EXPECT_EQ(std::memcmp(first.data(), second.data(), first.size() * sizeof(float)), 0);
   EXPECT_EQ(std::memcmp(first.data(), third.data(), first.size() * sizeof(float)), 0);
