@@ -30,6 +30,28 @@ int open_openings_at_level(int level) {
   return level;  // 1 doorway; 2 doorways; 2 doorways + 1 window; 2 doorways + 2 windows
 }
 
+float covered_fraction(const Opening& opening, const btCollisionObject& body, float depth,
+                       int samples) {
+  const btVector3 up(0, 1, 0);
+  const btVector3 across = up.cross(opening.normal);  // horizontal, along the wall
+  btTransform from = btTransform::getIdentity(), to = btTransform::getIdentity();
+  int covered = 0;
+  for (int i = 0; i < samples; ++i) {
+    for (int j = 0; j < samples; ++j) {
+      const float u = ((i + 0.5f) / samples - 0.5f) * opening.width;
+      const float v = ((j + 0.5f) / samples - 0.5f) * opening.height;
+      const btVector3 p = opening.centre + across * u + up * v;
+      from.setOrigin(p + opening.normal * depth);
+      to.setOrigin(p - opening.normal * depth);
+      btCollisionWorld::ClosestRayResultCallback ray(from.getOrigin(), to.getOrigin());
+      btCollisionWorld::rayTestSingle(from, to, const_cast<btCollisionObject*>(&body),
+                                      body.getCollisionShape(), body.getWorldTransform(), ray);
+      covered += ray.hasHit();
+    }
+  }
+  return static_cast<float>(covered) / (samples * samples);
+}
+
 Arena::Arena(BulletWorld& world, const ArenaParams& params) : world_(world), params_(params) {
   const int n_open = open_openings_at_level(params_.level);
   const float t = params_.wall_thickness;

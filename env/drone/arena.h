@@ -53,6 +53,13 @@ struct Opening {
 // the number of openings open at `level` (1, 2, 3, 4)
 int open_openings_at_level(int level);
 
+// the fraction of the opening's area that `body` (e.g. a locked prop) covers: the opening is
+// sampled on a samples x samples grid of cell centres, and a sample counts as covered when a ray
+// along the normal from `depth` outside the wall plane to `depth` inside hits the body. An opening
+// counts as closed (SPEC section 6) when a locked prop covers most of it, e.g. a fraction > 0.5.
+float covered_fraction(const Opening& opening, const btCollisionObject& body, float depth = 0.5f,
+                       int samples = 8);
+
 class Arena {
  public:
   // adds the static boxes to `world`; they live until the world is reset or destroyed.

@@ -150,6 +150,30 @@ TEST(ArenaTest, BoundaryWallsStopDrones) {
   }
 }
 
+TEST(ArenaTest, CoveredFractionOfAnOpeningByAPanel) {
+  BulletWorld world;
+  Arena arena(world, at_level(4));
+  const Opening& door = arena.openings()[0];      // -z wall, 1.4 x 1.9 m
+  const Opening& window = arena.openings()[2];    // +x wall, 1.4 x 1.4 m, sill at 2.2 m
+  const btVector3 panel_half(0.75f, 1.0f, 0.1f);  // the default prop panel (1.5 x 2 m)
+  const float outside = arena.params().room_half + 0.5f * arena.params().wall_thickness + 0.15f;
+  // a panel flush against the doorway's outer face covers all of it
+  btRigidBody* full = world.add_static_box(btVector3(0, 1.0f, -outside), panel_half, kProp);
+  EXPECT_FLOAT_EQ(covered_fraction(door, *full), 1.0f);
+  // the same panel slid 0.7 m sideways covers about half
+  btRigidBody* half = world.add_static_box(btVector3(0.7f, 1.0f, -outside), panel_half, kProp);
+  EXPECT_NEAR(covered_fraction(door, *half), 0.5f, 0.1f);
+  // one far away (or too far from the wall plane) covers none
+  btRigidBody* far = world.add_static_box(btVector3(0, 1.0f, -9), panel_half, kProp);
+  EXPECT_FLOAT_EQ(covered_fraction(door, *far), 0.0f);
+  // a panel turned to face +x, carried up to the window, covers it
+  btRigidBody* up = world.add_static_box(btVector3(outside, window.centre.y(), 0),
+                                         btVector3(0.1f, 1.0f, 0.75f), kProp);
+  EXPECT_FLOAT_EQ(covered_fraction(window, *up), 1.0f);
+  // the door panel does not cover the window
+  EXPECT_FLOAT_EQ(covered_fraction(window, *full), 0.0f);
+}
+
 TEST(ArenaTest, NoFlyingOverTheRoom) {
   BulletWorld world;
   Arena arena(world, at_level(4));
