@@ -4,6 +4,7 @@
 #include "apps/command_line.h"
 #include "apps/commands.h"
 #include "rl/core/json.h"
+#include "rl/core/sample_stats.h"
 #include "rl/curriculum/environment_parameter_manager.h"
 #include "rl/trainer/evaluation.h"
 #include "rl/trainer/saved_run.h"
@@ -42,20 +43,12 @@ int run_eval(const std::vector<std::string>& args) {
   std::vector<std::unique_ptr<BehaviorPolicy>> policies;
   for (size_t b = 0; b < run.trainers.size(); ++b) {
     auto& t = *run.trainers[b];
-    FastActor actor;
-    actor.copy_from(*t.network(), t.normalizer());
-    policies.push_back(std::make_unique<NetworkPolicy>(std::move(actor), t.obs_size(), deterministic,
-                                                       seed * 31 + b));
+    policies.push_back(
+        std::make_unique<NetworkPolicy>(t.fast_actor(), t.obs_size(), deterministic, seed * 31 + b));
   }
   Evaluation ev = evaluate(env, policies, episodes);
   for (const auto& be : ev.behaviors) {
-    double mean = 0, sq = 0, len = 0;
-    for (float r : be.returns) mean += r;
-    mean /= std::max<size_t>(1, be.returns.size());
-    for (float r : be.returns) sq += (r - mean) * (r - mean);
-    for (float l : be.lengths) len += l;
-    const double sd = std::sqrt(sq / std::max<size_t>(1, be.returns.size()));
-    len /= std::max<size_t>(1, be.lengths.size());
+    const double mean = mean_of(be.returns), sd = std_of(be.returns), len = mean_of(be.lengths);
     if (cl.has("--json")) {
       std::cout << "{\"behavior\":" << json_string(be.behavior) << ",\"episodes\":" << ev.episodes
                 << ",\"agent_episodes\":" << be.returns.size() << ",\"mean_return\":" << json_number(mean)

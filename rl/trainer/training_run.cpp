@@ -16,6 +16,7 @@
 #include "rl/core/allocator_tuning.h"
 #include "rl/core/archive_io.h"
 #include "rl/core/compute_threads.h"
+#include "rl/core/sample_stats.h"
 #include "rl/core/policy_export.h"
 #include "rl/curriculum/environment_parameter_manager.h"
 #include "rl/trainer/trainer_factory.h"
@@ -29,20 +30,6 @@ namespace {
 const char* kMetricsHeader =
     "step,elapsed_s,episodes,mean_return,std_return,mean_length,policy_loss,value_loss,"
     "baseline_loss,entropy,learning_rate,epsilon,beta\n";
-
-double mean_of(const std::vector<float>& v) {
-  double s = 0;
-  for (float x : v) s += x;
-  return v.empty() ? NAN : s / double(v.size());
-}
-
-double std_of(const std::vector<float>& v) {
-  if (v.empty()) return NAN;
-  const double m = mean_of(v);
-  double s = 0;
-  for (float x : v) s += (x - m) * (x - m);
-  return std::sqrt(s / double(v.size()));
-}
 
 // keeps the rows of a metrics file whose step is <= `step` (after a resume)
 void truncate_metrics(const std::string& path, int64_t step) {
@@ -112,7 +99,6 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   summary_group_returns_.resize(trainers_.size());
   summary_metrics_.resize(trainers_.size());
   update_window_.resize(trainers_.size());
-  recent_returns_.resize(trainers_.size());
 
   if (!options_.write_results) return;
   folder_ = std::make_unique<RunFolder>(cs.results_dir, cs.run_id);
@@ -179,6 +165,8 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
   auto all_finished = [&] {
     return std::all_of(trainers_.begin(), trainers_.end(), [](auto& t) { return t->finished(); });
   };
+  std::vector<BehaviorBuffers*> buffers;
+  for (int b = 0; b < nb; ++b) buffers.push_back(&env_->buffers(b));
   sample_all_parameters();
   env_->reseed_and_reset(boundary_seed(boundary_index_));
   using Clock = std::chrono::steady_clock;
@@ -188,8 +176,6 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
   while (!all_finished()) {
     // act, step, learn
     auto t0 = Clock::now();
-    std::vector<BehaviorBuffers*> buffers;
-    for (int b = 0; b < nb; ++b) buffers.push_back(&env_->buffers(b));
     if (self_play_->enabled()) {
       self_play_->select_rows(buffers, learner_rows_);
       for (int b = 0; b < nb; ++b) trainers_[b]->act(env_->buffers(b), &learner_rows_[b]);
@@ -213,11 +199,8 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
       auto& w = update_window_[b];
       w.returns.insert(w.returns.end(), ep.returns.begin(), ep.returns.end());
       w.lengths.insert(w.lengths.end(), ep.lengths.begin(), ep.lengths.end());
-      for (float r : ep.returns) {
-        if (options_.on_episode) options_.on_episode(b, trainers_[b]->step(), r);
-        recent_returns_[b].push_back(r);
-        if (recent_returns_[b].size() > kRecentEpisodes) recent_returns_[b].pop_front();
-      }
+      if (options_.on_episode)
+        for (float r : ep.returns) options_.on_episode(b, trainers_[b]->step(), r);
     }
     if (self_play_->enabled()) self_play_->after_step(buffers, learner_rows_);
     const auto finished = env_->take_finished_episodes();
@@ -258,7 +241,6 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   for (auto& t : trainers_) result.agent_steps += t->step();
   result.agent_steps -= start_steps;
-  for (int b = 0; b < nb; ++b) result.last_returns.push_back(float(mean_of(summary_returns_[b])));
   return result;
 }
 

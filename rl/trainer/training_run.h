@@ -9,7 +9,6 @@
 
 #include <chrono>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <map>
 #include <iosfwd>
@@ -48,7 +47,6 @@ struct TrainResult {
   double seconds = 0;
   int64_t env_steps = 0;    // vector-env steps x instances
   int64_t agent_steps = 0;  // decisions of all behaviors
-  std::vector<float> last_returns;  // per behavior: mean return of the last summary window
   // where the time went (seconds): choosing actions, stepping envs, building trajectories, updates
   double acting_seconds = 0, env_seconds = 0, trajectory_seconds = 0, update_seconds = 0;
 };
@@ -70,9 +68,6 @@ class TrainingRun {
   const RunFolder* folder() const { return folder_.get(); }
   const SelfPlay& self_play() const { return *self_play_; }
   const EnvironmentParameterManager& parameters() const { return parameters_; }
-  // returns of the newest finished agent episodes of behavior `b` (at most kRecentEpisodes)
-  const std::deque<float>& recent_returns(int b) const { return recent_returns_[b]; }
-  static constexpr size_t kRecentEpisodes = 100;
 
  private:
   void boundary(bool final);
@@ -110,7 +105,6 @@ class TrainingRun {
   std::vector<std::vector<float>> summary_group_returns_; // per behavior
   std::vector<std::map<std::string, std::pair<double, int>>> summary_metrics_;  // per behavior: sum, count
   std::vector<EpisodeStats> update_window_;               // per behavior: episodes since last row
-  std::vector<std::deque<float>> recent_returns_;         // per behavior
   double last_progress_ = -1;
   std::ostream* log_;
 };
