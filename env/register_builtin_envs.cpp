@@ -5,6 +5,7 @@
 
 #include "env/classic/cartpole.h"
 #include "env/classic/pendulum.h"
+#include "env/drone/hide_and_seek.h"
 #include "env/toy/duel.h"
 #include "env/toy/escape.h"
 #include "env/toy/hybrid_reach.h"
@@ -37,6 +38,8 @@ void register_builtin_envs() {
     add_env<Escape>("Escape");
     add_env<Pursuit>("Pursuit");
     add_env<Duel>("Duel");
+    // the Bullet drone world
+    add_env<HideAndSeek>("HideAndSeek");
   });
 }
 

@@ -113,9 +113,11 @@ int PropSet::grab(const DroneBody& drone) {
   Prop& prop = props_[i];
   // the drone's body is owned by the world; the constraint needs it non-const
   btRigidBody& a = const_cast<btRigidBody&>(drone.body());
-  const btVector3 pivot_in_a = a.getWorldTransform().invXform(prop.position());
+  // the prop's pose in the drone's frame, kept while held: turning the drone turns the prop
+  const btTransform prop_in_a =
+      a.getWorldTransform().inverse() * prop.body->getWorldTransform();
   prop.grab = world_.add_constraint(
-      std::make_unique<btPoint2PointConstraint>(a, *prop.body, pivot_in_a, btVector3(0, 0, 0)),
+      std::make_unique<btFixedConstraint>(a, *prop.body, prop_in_a, btTransform::getIdentity()),
       true);
   prop.held_by = &drone.body();
   prop.body->activate(true);

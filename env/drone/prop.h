@@ -9,8 +9,9 @@
 //   front:  the direction from the drone's centre to the closest point of the box is within
 //           cone_degrees (60) of the drone's forward (a box the drone touches counts as in front);
 //   grab:   attaches the nearest prop in reach and in front that is neither locked nor held by
-//           another drone, with a btPoint2PointConstraint through the prop's centre (collisions
-//           between the two are off), so that it is dragged at a fixed distance; a drone already
+//           another drone, with a btFixedConstraint that keeps the prop's pose in the drone's
+//           frame (collisions between the two are off): it is dragged at a fixed distance and
+//           turns with the drone, so a drone can carry a panel square to an opening; a drone already
 //           holding a prop keeps it. Fails (-1) when no prop qualifies: a locked prop is never
 //           grabbed and a failed grab releases nothing;
 //   release: removes the drone's constraint; the prop keeps its velocity and is then damped;

@@ -6,6 +6,7 @@
 #include <map>
 #include <string>
 
+#include "rl/env_api/recording.h"
 #include "rl/env_api/spec.h"
 #include "rl/env_api/step_buffers.h"
 
@@ -43,6 +44,16 @@ class Env {
 
   // Metrics of the episode that just ended (called once all agents are kLast or kAbsent).
   virtual EpisodeMetrics episode_metrics() const { return {}; }
+
+  // A hand-written policy for behavior `behavior` that may read the env's own state (a baseline
+  // for `rlt eval --policy NAME=scripted`): writes the actions of every slot that needs one into
+  // `view`. Returns false, writing nothing, when the env has none for that behavior.
+  virtual bool write_scripted_actions(int /*behavior*/, BehaviorView& /*view*/) { return false; }
+
+  // Recording for replay viewers: once on, every episode is recorded frame by frame; after an
+  // episode ended, take_recording() moves it into `out`. Envs without recording return false.
+  virtual void set_recording(bool /*on*/) {}
+  virtual bool take_recording(EpisodeRecording& /*out*/) { return false; }
 
  private:
   Parameters parameters_;

@@ -84,6 +84,14 @@ class BehaviorView {
     return b_->discrete_actions.data() + size_t(row0_ + slot) * b_->spec.action.num_branches();
   }
 
+  // where a policy writes the actions (the learner, or Env::write_scripted_actions)
+  float* continuous_action_out(int slot) {
+    return b_->continuous_actions.data() + size_t(row0_ + slot) * b_->spec.action.continuous_size;
+  }
+  int32_t* discrete_action_out(int slot) {
+    return b_->discrete_actions.data() + size_t(row0_ + slot) * b_->spec.action.num_branches();
+  }
+
   // Zeroes rewards and flags of every slot; called by the vector env before each reset or step.
   void clear_step() {
     for (int s = 0; s < slots(); ++s) {

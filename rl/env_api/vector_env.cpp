@@ -22,6 +22,7 @@ VectorEnv::VectorEnv(const std::string& env_id, int num_envs, uint64_t base_seed
   needs_reset_.assign(num_envs, 1);
   just_finished_.assign(num_envs, 0);
   last_metrics_.resize(num_envs);
+  last_recording_.resize(num_envs);
 }
 
 void VectorEnv::set_parameters(const Parameters& params) {
@@ -78,13 +79,30 @@ void VectorEnv::step() {
       needs_reset_[i] = 1;
       just_finished_[i] = 1;
       last_metrics_[i] = envs_[i]->episode_metrics();
+      if (recording_) {
+        auto recording = std::make_shared<EpisodeRecording>();
+        if (envs_[i]->take_recording(*recording)) last_recording_[i] = std::move(recording);
+      }
     }
   });
   for (int i = 0; i < num_envs(); ++i) {
     if (!just_finished_[i]) continue;
     just_finished_[i] = 0;
-    finished_.push_back({i, std::move(last_metrics_[i])});
+    finished_.push_back({i, std::move(last_metrics_[i]), std::move(last_recording_[i])});
+    last_recording_[i].reset();
   }
+}
+
+bool VectorEnv::write_scripted_actions(int behavior) {
+  bool all = true;
+  for (int i = 0; i < num_envs(); ++i)
+    all = envs_[i]->write_scripted_actions(behavior, views_[i][behavior]) && all;
+  return all;
+}
+
+void VectorEnv::set_recording(bool on) {
+  recording_ = on;
+  for (auto& env : envs_) env->set_recording(on);
 }
 
 std::vector<FinishedEpisode> VectorEnv::take_finished_episodes() {

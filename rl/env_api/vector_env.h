@@ -18,6 +18,7 @@ namespace rlt {
 struct FinishedEpisode {
   int env_index = 0;
   EpisodeMetrics metrics;
+  std::shared_ptr<EpisodeRecording> recording;  // set when recording is on and the env records
 };
 
 class VectorEnv {
@@ -44,6 +45,12 @@ class VectorEnv {
   // Steps every instance with the actions in the buffers (or resets those whose episode ended).
   void step();
 
+  // Writes the actions of every slot of `behavior` that needs one with the env's scripted policy
+  // (Env::write_scripted_actions) in every instance; false when the env has none.
+  bool write_scripted_actions(int behavior);
+  // Records every episode from now on (Env::set_recording); finished episodes carry it.
+  void set_recording(bool on);
+
   // Episodes that ended since the last call, in env order.
   std::vector<FinishedEpisode> take_finished_episodes();
 
@@ -58,7 +65,9 @@ class VectorEnv {
   std::vector<uint8_t> needs_reset_;          // [num_envs]
   std::vector<uint8_t> just_finished_;        // [num_envs]
   std::vector<EpisodeMetrics> last_metrics_;  // [num_envs]
+  std::vector<std::shared_ptr<EpisodeRecording>> last_recording_;  // [num_envs]
   std::vector<FinishedEpisode> finished_;
+  bool recording_ = false;
   ThreadPool pool_;
 };
 

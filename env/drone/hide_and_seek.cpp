@@ -1,0 +1,667 @@
+#include "env/drone/hide_and_seek.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "env/drone/hide_and_seek_scripted.h"
+#include "env/drone/vision.h"
+#include "rl/env_api/uniform_random.h"
+
+namespace rlt {
+
+using drone::kNumOpenings;
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+constexpr float kSpawnHeight = 1.0f;  // drones start at this height (m)
+constexpr int kSpawnAttempts = 2000;
+constexpr float kClosedCover = 0.5f;  // an opening is closed when more than half is covered
+
+// footprint radii used to keep spawns apart (m)
+constexpr float kDroneFootprint = 0.5f;
+constexpr float kPropFootprint = 0.85f;
+constexpr float kObstacleFootprint = 0.65f;
+
+float clip1(float x) { return std::clamp(x, -1.0f, 1.0f); }
+
+const char* kind_name(drone::Tag tag) {
+  switch (tag) {
+    case drone::kWall: return "wall";
+    case drone::kProp: return "prop";
+    case drone::kObstacle: return "obstacle";
+    case drone::kHider: return "hider";
+    case drone::kSeeker: return "seeker";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+// the parameters of one episode, read and checked at reset
+struct HideAndSeek::Settings {
+  int decision_period = 3;
+  int episode_frames = 3072;
+  float prep_fraction = 0.4f;
+  int reward_preset = 0;  // 0 paper, 1 baker
+  float hide_reward = 0.001f;
+  float close_reward = 0.1f;
+  float tagged_reward = -1.0f;
+  float seen_reward = 0.001f;
+  bool assault_weighting = false;
+  float tag_reward = 1.0f;
+  bool end_on_tag = true;
+  float tag_distance = 0.1f;
+  float vision_range = drone::kDefaultVisionRange;
+  float vision_cone = drone::kDefaultConeDegrees;
+};
+
+HideAndSeek::HideAndSeek() : settings_(std::make_unique<Settings>()) {
+  spec_.name = "HideAndSeek";
+  BehaviorSpec hider;
+  hider.name = "Hider";
+  hider.observations.push_back({"vector", {kVectorSize}, ObservationKind::kVector, -1.f, 1.f});
+  hider.observations.push_back({"rays", {rays_.size()}, ObservationKind::kVector, 0.f, 1.f});
+  hider.action.continuous_size = 4;
+  hider.action.discrete_branches = {2, 3};
+  hider.agent_slots = kMaxHiders;
+  BehaviorSpec seeker = hider;
+  seeker.name = "Seeker";
+  seeker.agent_slots = kMaxSeekers;
+  spec_.behaviors = {hider, seeker};
+  spec_.max_episode_steps = kMaxEpisodeFrames;  // decision_period 1
+  spec_.default_parameters = {
+      {"level", 1.f},           {"num_hiders", 2.f},
+      {"num_seekers", 2.f},     {"episode_frames", 3072.f},
+      {"decision_period", 3.f}, {"prep_fraction", 0.4f},
+      {"reward_preset", 0.f},   {"hide_reward", 0.001f},
+      {"hide_reward_level4", 0.0005f},
+      {"close_reward", 0.1f},   {"tagged_reward", -1.f},
+      {"seen_reward", 0.001f},  {"assault_weighting", 0.f},
+      {"tag_reward", 1.f},      {"end_on_tag", 1.f},
+      {"tag_distance", 0.1f},   {"vision_range", drone::kDefaultVisionRange},
+      {"vision_cone", drone::kDefaultConeDegrees},
+  };
+  world_ = std::make_unique<drone::BulletWorld>();
+}
+
+HideAndSeek::~HideAndSeek() {
+  // the prop set releases its constraints before the world goes
+  props_.reset();
+  for (Agent& a : agents_) a.drone.reset();
+}
+
+void HideAndSeek::seed(uint64_t seed) { engine_.seed(seed); }
+
+namespace {
+
+// an integer parameter in [low, high]
+int int_parameter(const Env& env, const char* name, int low, int high) {
+  const float v = env.parameter(name);
+  if (!(v >= low && v <= high) || v != std::floor(v))
+    throw std::invalid_argument("HideAndSeek: parameter " + std::string(name) + " = " +
+                                std::to_string(v) + " must be an integer in [" +
+                                std::to_string(low) + ", " + std::to_string(high) + "]");
+  return static_cast<int>(v);
+}
+
+float float_parameter(const Env& env, const char* name, float low, float high) {
+  const float v = env.parameter(name);
+  if (!(v >= low && v <= high))
+    throw std::invalid_argument("HideAndSeek: parameter " + std::string(name) + " = " +
+                                std::to_string(v) + " must be in [" + std::to_string(low) +
+                                ", " + std::to_string(high) + "]");
+  return v;
+}
+
+// where spawns may go: inside the room, outside it, or a band just outside it
+enum class Region { kRoom, kOutside, kNearOutside, kAnywhere };
+
+struct Footprint {
+  float x, z, r;
+};
+
+class SpawnPlanner {
+ public:
+  SpawnPlanner(const drone::ArenaParams& arena, std::mt19937_64& engine)
+      : arena_(arena), engine_(engine) {}
+
+  // a free (x, z) for a footprint of radius r in `region`; throws when none is found
+  btVector3 place(Region region, float r, float y) {
+    const float wall = 0.5f * arena_.wall_thickness;
+    const float inner = arena_.room_half - wall;  // inner face of the room's walls
+    const float outer = arena_.room_half + wall;  // outer face
+    const float bound = arena_.half_size;
+    for (int attempt = 0; attempt < kSpawnAttempts; ++attempt) {
+      float x, z;
+      if (region == Region::kRoom) {
+        x = uniform(engine_, -inner + r, inner - r);
+        z = uniform(engine_, -inner + r, inner - r);
+      } else {
+        const float lim = region == Region::kNearOutside ? outer + 2.5f + r : bound - r;
+        x = uniform(engine_, -lim, lim);
+        z = uniform(engine_, -lim, lim);
+        const float box = std::max(std::abs(x), std::abs(z));
+        const float clearance = region == Region::kOutside ? 2.0f : 0.1f;
+        if (region != Region::kAnywhere && box < outer + r + clearance) continue;
+        // anywhere: not across a room wall
+        if (region == Region::kAnywhere && box > inner - r && box < outer + r) continue;
+        if (std::abs(x) > bound - r || std::abs(z) > bound - r) continue;
+      }
+      if (free(x, z, r)) {
+        taken_.push_back({x, z, r});
+        return btVector3(x, y, z);
+      }
+    }
+    throw std::runtime_error("HideAndSeek: no free spawn place found (too many bodies?)");
+  }
+  void take(float x, float z, float r) { taken_.push_back({x, z, r}); }
+
+ private:
+  bool free(float x, float z, float r) const {
+    for (const Footprint& f : taken_) {
+      const float dx = f.x - x, dz = f.z - z;
+      if (dx * dx + dz * dz < (f.r + r) * (f.r + r)) return false;
+    }
+    return true;
+  }
+
+  const drone::ArenaParams& arena_;
+  std::mt19937_64& engine_;
+  std::vector<Footprint> taken_;
+};
+
+}  // namespace
+
+void HideAndSeek::build_episode() {
+  Settings& s = *settings_;
+  level_ = int_parameter(*this, "level", drone::kMinLevel, drone::kMaxLevel);
+  num_agents_[kHider] = int_parameter(*this, "num_hiders", 1, kMaxHiders);
+  num_agents_[kSeeker] = int_parameter(*this, "num_seekers", 1, kMaxSeekers);
+  s.decision_period = int_parameter(*this, "decision_period", 1, 10);
+  s.episode_frames = int_parameter(*this, "episode_frames", 30, kMaxEpisodeFrames);
+  s.prep_fraction = float_parameter(*this, "prep_fraction", 0.0f, 0.9f);
+  s.reward_preset = int_parameter(*this, "reward_preset", 0, 1);
+  s.hide_reward = level_ == 4 ? parameter("hide_reward_level4") : parameter("hide_reward");
+  s.close_reward = parameter("close_reward");
+  s.tagged_reward = parameter("tagged_reward");
+  s.seen_reward = parameter("seen_reward");
+  s.assault_weighting = int_parameter(*this, "assault_weighting", 0, 1) == 1;
+  s.tag_reward = parameter("tag_reward");
+  s.end_on_tag = int_parameter(*this, "end_on_tag", 0, 1) == 1;
+  s.tag_distance = float_parameter(*this, "tag_distance", 0.0f, 2.0f);
+  s.vision_range = float_parameter(*this, "vision_range", 0.1f, 100.0f);
+  s.vision_cone = float_parameter(*this, "vision_cone", 1.0f, 360.0f);
+  for (const char* name : {"hide_reward", "hide_reward_level4", "close_reward", "tagged_reward",
+                           "seen_reward", "tag_reward"}) {
+    if (!std::isfinite(parameter(name)))
+      throw std::invalid_argument("HideAndSeek: parameter " + std::string(name) +
+                                  " must be finite");
+  }
+  prep_frames_ = std::lround(s.prep_fraction * s.episode_frames);
+
+  // a fresh world: bodies added in the same order give the same trajectory
+  props_.reset();
+  for (Agent& a : agents_) a.drone.reset();
+  obstacles_.clear();
+  world_->reset();
+  drone::ArenaParams arena_params;
+  arena_params.level = level_;
+  arena_ = std::make_unique<drone::Arena>(*world_, arena_params);
+  props_ = std::make_unique<drone::PropSet>(*world_);
+
+  SpawnPlanner planner(arena_params, engine_);
+  const auto& openings = arena_->openings();
+  const float prop_y = props_->params().half.y() + 0.01f;
+  const float wall = 0.5f * arena_params.wall_thickness;
+  const float inner = arena_params.room_half - wall;
+  const int num_props = level_;
+  if (level_ == 1) {
+    // next to doorway 0, inside the room, parallel to its wall, beside the doorway
+    const drone::Opening& door = openings[0];
+    const btVector3 across = btVector3(0, 1, 0).cross(door.normal);
+    const btVector3 p = door.centre - door.normal * 1.2f + across * 1.6f;
+    props_->add(btVector3(p.x(), prop_y, p.z()), 0.0f);
+    planner.take(p.x(), p.z(), kPropFootprint);
+  } else {
+    for (int i = 0; i < num_props; ++i) {
+      btVector3 p;
+      if (level_ == 2) {
+        // in the room, at least 2.5 m from every opening
+        for (int attempt = 0;; ++attempt) {
+          p = btVector3(uniform(engine_, -inner + 1.0, inner - 1.0), prop_y,
+                        uniform(engine_, -inner + 1.0, inner - 1.0));
+          bool far = true;
+          for (const auto& o : openings) {
+            const btVector3 d = p - o.centre;
+            far = far && (d.x() * d.x() + d.z() * d.z() >= 2.5f * 2.5f);
+          }
+          bool clear = true;
+          for (int j = 0; j < props_->size(); ++j)
+            clear = clear && (p - (*props_)[j].position()).length() > 2 * kPropFootprint;
+          if (far && clear) break;
+          if (attempt > kSpawnAttempts) throw std::runtime_error("HideAndSeek: no prop place");
+        }
+        planner.take(p.x(), p.z(), kPropFootprint);
+      } else {
+        p = planner.place(level_ == 3 ? Region::kRoom : Region::kAnywhere, kPropFootprint, prop_y);
+      }
+      props_->add(p, static_cast<float>(uniform(engine_, -kPi, kPi)));
+    }
+  }
+  const int num_obstacles = level_ == 3 ? 3 : level_ == 4 ? 5 : 0;
+  drone::ObstacleParams obstacle;
+  for (int i = 0; i < num_obstacles; ++i) {
+    const btVector3 p = planner.place(Region::kAnywhere, kObstacleFootprint, obstacle.half.y());
+    obstacles_.push_back(
+        drone::add_obstacle(*world_, p, static_cast<float>(uniform(engine_, -kPi, kPi)), obstacle));
+  }
+  for (int t = 0; t < 2; ++t) {
+    for (int slot = 0; slot < (t == kHider ? kMaxHiders : kMaxSeekers); ++slot) {
+      Agent& a = agent(static_cast<Team>(t), slot);
+      a.team = static_cast<Team>(t);
+      a.slot = slot;
+      a.present = slot < num_agents_[t];
+      a.thrust = {};
+      if (!a.present) continue;
+      Region region = Region::kOutside;
+      if (t == kHider) {
+        region = Region::kRoom;
+        if (level_ >= 3 && uniform01(engine_) < 0.5) region = Region::kNearOutside;
+      }
+      const btVector3 p = planner.place(region, kDroneFootprint, kSpawnHeight);
+      const float yaw = static_cast<float>(uniform(engine_, -kPi, kPi));
+      a.drone = std::make_unique<drone::DroneBody>(*world_, p, yaw,
+                                                   t == kHider ? drone::kHider : drone::kSeeker);
+    }
+  }
+
+  frame_ = 0;
+  over_ = false;
+  ever_closed_ = {};
+  tagged_ = 0;
+  test_frames_ = seen_frames_ = hidden_frames_ = 0;
+  closed_at_prep_end_ = 0;
+  fort_ = false;
+  // seekers are frozen in the prep phase
+  const bool prep = prep_frames_ > 0;
+  for (int slot = 0; slot < num_agents_[kSeeker]; ++slot) {
+    btRigidBody& body = agent(kSeeker, slot).drone->body();
+    body.setLinearFactor(prep ? btVector3(0, 0, 0) : btVector3(1, 1, 1));
+    body.setAngularFactor(prep ? btVector3(0, 0, 0) : btVector3(0, 1, 0));
+  }
+  if (!prep) closed_at_prep_end_ = 0;
+
+  if (recording_on_) {
+    recording_ = EpisodeRecording();
+    recording_.env = spec_.name;
+    recording_.frame_rate = 1.0f / world_->dt();
+    const auto& objects = world_->world().getCollisionObjectArray();
+    for (int i = 0; i < objects.size(); ++i) {
+      const btCollisionObject* o = objects[i];
+      RecordedBody body;
+      body.kind = kind_name(drone::tag_of(*o));
+      const btCollisionShape* shape = o->getCollisionShape();
+      if (shape->getShapeType() == SPHERE_SHAPE_PROXYTYPE) {
+        body.shape = "sphere";
+        const float d = 2 * static_cast<const btSphereShape*>(shape)->getRadius();
+        body.size = {d, d, d};
+      } else {
+        body.shape = "box";
+        const btVector3 h = static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin();
+        body.size = {2 * h.x(), 2 * h.y(), 2 * h.z()};
+      }
+      for (const Agent& a : agents_)
+        if (a.drone && &a.drone->body() == o) body.agent_id = agent_id(a);
+      recording_.bodies.push_back(body);
+      recorded_objects_.push_back(o);
+      recorded_initial_.push_back(o);
+    }
+    pending_events_.clear();
+    record_frame();
+  }
+}
+
+void HideAndSeek::reset(StepView& out) {
+  recorded_objects_.clear();
+  recorded_initial_.clear();
+  build_episode();
+  for (int t = 0; t < 2; ++t) {
+    BehaviorView& view = out[t];
+    for (int slot = 0; slot < view.slots(); ++slot) {
+      const Agent& a = agent(static_cast<Team>(t), slot);
+      if (!a.present) continue;
+      view.step_type(slot) = StepType::kFirst;
+      view.agent_id(slot) = agent_id(a);
+      view.group_id(slot) = t;
+      write_observation(view, a);
+      write_mask(view, a);
+    }
+  }
+}
+
+void HideAndSeek::apply_grab_and_lock(Agent& a, const int* discrete) {
+  if (a.team != kHider) return;  // the mask forbids it; ignore a forbidden choice
+  drone::DroneBody& d = *a.drone;
+  const int before = props_->held_by(d);
+  if (discrete[kGrabBranch] == 1) {
+    const int got = props_->grab(d);
+    if (got >= 0 && got != before) record_event("grab", &d.body(), (*props_)[got].body);
+  } else if (before >= 0) {
+    props_->release(d);
+    record_event("release", &d.body(), (*props_)[before].body);
+  }
+  const int team = static_cast<int>(kHider);
+  if (discrete[kLockBranch] == 1) {
+    const int i = props_->lock(d, team);
+    if (i >= 0) record_event("lock", &d.body(), (*props_)[i].body);
+  } else if (discrete[kLockBranch] == 2) {
+    const int i = props_->unlock(d, team);
+    if (i >= 0) record_event("unlock", &d.body(), (*props_)[i].body);
+  }
+}
+
+void HideAndSeek::record_event(const char* type, const btCollisionObject* body,
+                               const btCollisionObject* other, int index) {
+  if (!recording_on_) return;
+  auto find = [&](const btCollisionObject* o) {
+    for (size_t i = 0; i < recorded_initial_.size(); ++i)
+      if (o != nullptr && recorded_initial_[i] == o) return static_cast<int>(i);
+    return -1;
+  };
+  RecordedEvent e;
+  e.type = type;
+  e.body = find(body);
+  e.other = other != nullptr ? find(other) : index;
+  pending_events_.push_back(e);
+}
+
+bool HideAndSeek::hider_seen(int h) const {
+  const Agent& hider = agent(kHider, h);
+  if (!hider.present) return false;
+  for (int s = 0; s < num_agents_[kSeeker]; ++s) {
+    const Agent& seeker = agent(kSeeker, s);
+    if (seeker.present && drone::sees(*world_, seeker.drone->body(), hider.drone->body(),
+                                      settings_->vision_cone, settings_->vision_range))
+      return true;
+  }
+  return false;
+}
+
+bool HideAndSeek::opening_closed(int o) const {
+  const drone::Opening& opening = arena_->openings()[o];
+  if (!opening.open) return false;
+  for (int i = 0; i < props_->size(); ++i) {
+    const drone::Prop& prop = (*props_)[i];
+    if (!prop.locked()) continue;
+    const btVector3 d = prop.position() - opening.centre;
+    if (d.length() > 2.0f) continue;  // too far to cover it
+    if (drone::covered_fraction(opening, *prop.body) > kClosedCover) return true;
+  }
+  return false;
+}
+
+int HideAndSeek::count_closed() const {
+  int n = 0;
+  for (int o = 0; o < kNumOpenings; ++o) n += opening_closed(o);
+  return n;
+}
+
+void HideAndSeek::tag(Agent& hider, StepView& io) {
+  const Settings& s = *settings_;
+  BehaviorView& hv = io[kHider];
+  hv.reward(hider.slot) += s.tagged_reward;
+  hv.terminated(hider.slot) = 1;
+  hv.step_type(hider.slot) = StepType::kLast;
+  write_observation(hv, hider);
+  BehaviorView& sv = io[kSeeker];
+  for (int slot = 0; slot < num_agents_[kSeeker]; ++slot)
+    if (agent(kSeeker, slot).present) sv.group_reward(slot) += s.tag_reward;
+  record_event("tag", &hider.drone->body(), nullptr);
+  props_->release(*hider.drone);
+  for (size_t i = 0; i < recorded_objects_.size(); ++i)
+    if (recorded_objects_[i] == &hider.drone->body()) recorded_objects_[i] = nullptr;
+  world_->remove_body(&hider.drone->body());
+  hider.drone.reset();
+  hider.present = false;
+  ++tagged_;
+}
+
+void HideAndSeek::run_frame(StepView& io) {
+  const Settings& s = *settings_;
+  for (Agent& a : agents_) {
+    if (!a.present) continue;
+    if (a.team == kSeeker && in_prep()) continue;  // frozen
+    a.drone->apply_action(a.thrust[0], a.thrust[1], a.thrust[2], a.thrust[3]);
+  }
+  world_->step_frame();
+  ++frame_;
+  if (frame_ == prep_frames_) {
+    // the prep phase ends: measure the fort, free the seekers
+    closed_at_prep_end_ = count_closed();
+    fort_ = closed_at_prep_end_ == arena_->num_open();
+    for (int slot = 0; slot < num_agents_[kSeeker]; ++slot) {
+      btRigidBody& body = agent(kSeeker, slot).drone->body();
+      body.setLinearFactor(btVector3(1, 1, 1));
+      body.setAngularFactor(btVector3(0, 1, 0));
+    }
+    record_event("prep_end", nullptr, nullptr);
+  }
+  if (in_prep()) return;
+
+  // test phase: tags, then seeing
+  bool tagged_now = false;
+  for (int h = 0; h < kMaxHiders; ++h) {
+    Agent& hider = agent(kHider, h);
+    if (!hider.present || s.reward_preset == 1) continue;
+    const btVector3 p = hider.drone->position();
+    const float reach = 2 * hider.drone->params().radius + s.tag_distance;
+    for (int k = 0; k < num_agents_[kSeeker]; ++k) {
+      const Agent& seeker = agent(kSeeker, k);
+      if ((seeker.drone->position() - p).length() <= reach) {
+        tag(hider, io);
+        tagged_now = true;
+        break;
+      }
+    }
+  }
+  ++test_frames_;
+  bool any_seen = false, all_hidden = true;
+  for (int h = 0; h < kMaxHiders; ++h) {
+    Agent& hider = agent(kHider, h);
+    if (!hider.present) continue;
+    bool seen = false;
+    for (int k = 0; k < num_agents_[kSeeker]; ++k) {
+      const Agent& seeker = agent(kSeeker, k);
+      if (!drone::sees(*world_, seeker.drone->body(), hider.drone->body(), s.vision_cone,
+                       s.vision_range))
+        continue;
+      seen = true;
+      if (s.reward_preset == 0) {
+        float w = 1.0f;
+        if (s.assault_weighting)
+          w = std::clamp(drone::assault_horizon(seeker.drone->forward(), seeker.drone->position(),
+                                                hider.drone->position()),
+                         0.0f, 1.0f);
+        io[kSeeker].reward(k) += s.seen_reward * w;
+      }
+    }
+    any_seen = any_seen || seen;
+    all_hidden = all_hidden && !seen;
+    if (!seen && s.reward_preset == 0) io[kHider].reward(h) += s.hide_reward;
+  }
+  // a tag counts as seen (the tagged hider has just left)
+  seen_frames_ += any_seen || tagged_now;
+  hidden_frames_ += all_hidden && !tagged_now;
+  last_all_hidden_ = all_hidden;
+}
+
+void HideAndSeek::check_openings(StepView& io) {
+  for (int o = 0; o < kNumOpenings; ++o) {
+    if (ever_closed_[o] || !opening_closed(o)) continue;
+    ever_closed_[o] = true;
+    record_event("closed", nullptr, nullptr, o);
+    if (settings_->reward_preset != 0) continue;
+    for (int h = 0; h < kMaxHiders; ++h)
+      if (agent(kHider, h).present) io[kHider].reward(h) += settings_->close_reward;
+  }
+}
+
+void HideAndSeek::pay_baker_rewards(StepView& io) {
+  const float r = last_all_hidden_ ? 1.0f : -1.0f;
+  for (int h = 0; h < kMaxHiders; ++h)
+    if (agent(kHider, h).present) io[kHider].reward(h) += r;
+  for (int k = 0; k < num_agents_[kSeeker]; ++k)
+    if (agent(kSeeker, k).present) io[kSeeker].group_reward(k) -= r;
+}
+
+void HideAndSeek::step(StepView& io) {
+  const Settings& s = *settings_;
+  // agents that left last step are gone now
+  for (int t = 0; t < 2; ++t)
+    for (int slot = 0; slot < io[t].slots(); ++slot)
+      if (io[t].step_type(slot) == StepType::kLast) io[t].step_type(slot) = StepType::kAbsent;
+
+  for (Agent& a : agents_) {
+    if (!a.present) continue;
+    BehaviorView& view = io[a.team];
+    const float* c = view.continuous_action(a.slot);
+    for (int k = 0; k < 4; ++k) a.thrust[k] = std::isfinite(c[k]) ? clip1(c[k]) : 0.0f;
+    apply_grab_and_lock(a, view.discrete_action(a.slot));
+  }
+  for (int f = 0; f < s.decision_period && !over_; ++f) {
+    const int before = tagged_;
+    run_frame(io);
+    if (tagged_ > before && s.end_on_tag) over_ = true;
+    if (tagged_ == num_agents_[kHider]) over_ = true;
+    if (recording_on_) record_frame();
+    if (frame_ >= s.episode_frames) break;
+  }
+  check_openings(io);
+  if (s.reward_preset == 1 && !in_prep()) pay_baker_rewards(io);
+
+  const bool truncated = !over_ && frame_ >= s.episode_frames;
+  if (over_ || truncated) {
+    end_episode(io, /*terminated=*/over_);
+    return;
+  }
+  for (Agent& a : agents_) {
+    if (!a.present) continue;
+    BehaviorView& view = io[a.team];
+    view.step_type(a.slot) = StepType::kMid;
+    write_observation(view, a);
+    write_mask(view, a);
+  }
+}
+
+void HideAndSeek::end_episode(StepView& io, bool terminated) {
+  over_ = true;
+  for (Agent& a : agents_) {
+    if (!a.present) continue;
+    BehaviorView& view = io[a.team];
+    view.step_type(a.slot) = StepType::kLast;
+    view.terminated(a.slot) = terminated ? 1 : 0;
+    write_observation(view, a);
+  }
+  if (recording_on_) {
+    for (const auto& [k, v] : episode_metrics()) recording_.metrics.emplace_back(k, v);
+  }
+}
+
+void HideAndSeek::write_mask(BehaviorView& view, const Agent& a) const {
+  uint8_t* m = view.action_mask(a.slot);  // [2 + 3]
+  const bool hider = a.team == kHider;
+  m[0] = 1;
+  m[1] = hider;
+  m[2] = 1;
+  m[3] = hider;
+  m[4] = hider;
+}
+
+void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
+  const Settings& s = *settings_;
+  const drone::DroneBody& d = *a.drone;
+  const drone::ArenaParams& ap = arena_->params();
+  float* v = view.observation(a.slot, 0);  // [kVectorSize]
+  const btVector3 p = d.position();
+  const btVector3 vel = d.velocity() / d.params().max_speed;
+  const btVector3 fwd = d.forward();
+  const float yaw = d.yaw();
+  v[0] = clip1(p.x() / ap.half_size);
+  v[1] = clip1(2 * p.y() / ap.height - 1);
+  v[2] = clip1(p.z() / ap.half_size);
+  v[3] = clip1(vel.x());
+  v[4] = clip1(vel.y());
+  v[5] = clip1(vel.z());
+  v[6] = clip1(fwd.x());
+  v[7] = clip1(fwd.y());
+  v[8] = clip1(fwd.z());
+  v[9] = std::sin(yaw);
+  v[10] = std::cos(yaw);
+  v[11] = props_->held_by(d) >= 0 ? 1.0f : 0.0f;
+  v[12] = clip1(static_cast<float>(frame_) / s.episode_frames);
+  v[13] = in_prep() ? 1.0f : 0.0f;
+  // the nearest opponent this agent sees
+  const Team other = a.team == kHider ? kSeeker : kHider;
+  float best = INFINITY;
+  btVector3 rel(0, 0, 0);
+  for (int k = 0; k < (other == kHider ? kMaxHiders : kMaxSeekers); ++k) {
+    const Agent& o = agent(other, k);
+    if (!o.present) continue;
+    const btVector3 delta = o.drone->position() - p;
+    const float dist = delta.length();
+    if (dist >= best) continue;
+    if (!drone::sees(*world_, d.body(), o.drone->body(), s.vision_cone, s.vision_range)) continue;
+    best = dist;
+    rel = delta;
+  }
+  const bool seen = std::isfinite(best);
+  v[14] = seen ? clip1(rel.dot(d.right()) / s.vision_range) : 0.0f;
+  v[15] = seen ? clip1(rel.y() / s.vision_range) : 0.0f;
+  v[16] = seen ? clip1(rel.dot(fwd) / s.vision_range) : 0.0f;
+  v[17] = seen ? 1.0f : 0.0f;
+  rays_.observe(world_->world(), d.body(), view.observation(a.slot, 1));
+}
+
+void HideAndSeek::record_frame() {
+  RecordedFrame frame;
+  frame.poses.resize(recorded_objects_.size());
+  frame.present.resize(recorded_objects_.size());
+  for (size_t i = 0; i < recorded_objects_.size(); ++i) {
+    const btCollisionObject* o = recorded_objects_[i];
+    if (o == nullptr) continue;
+    const btTransform& t = o->getWorldTransform();
+    const btQuaternion q = t.getRotation();
+    frame.poses[i] = {float(t.getOrigin().x()), float(t.getOrigin().y()), float(t.getOrigin().z()),
+                      float(q.x()), float(q.y()), float(q.z()), float(q.w())};
+    frame.present[i] = 1;
+  }
+  frame.events = pending_events_;
+  pending_events_.clear();
+  recording_.frames.push_back(std::move(frame));
+}
+
+bool HideAndSeek::take_recording(EpisodeRecording& out) {
+  if (!recording_on_ || !over_ || recording_.frames.empty()) return false;
+  out = std::move(recording_);
+  recording_ = EpisodeRecording();
+  return true;
+}
+
+EpisodeMetrics HideAndSeek::episode_metrics() const {
+  const float test = static_cast<float>(std::max<long>(test_frames_, 1));
+  return {{"tag_rate", tagged_ > 0 ? 1.0f : 0.0f},
+          {"seen_fraction", seen_frames_ / test},
+          {"hidden_fraction", hidden_frames_ / test},
+          {"fort_rate", fort_ ? 1.0f : 0.0f},
+          {"openings_closed", static_cast<float>(closed_at_prep_end_)},
+          {"tagged", static_cast<float>(tagged_)}};
+}
+
+bool HideAndSeek::write_scripted_actions(int behavior, BehaviorView& view) {
+  return drone::write_scripted_hide_and_seek_actions(*this, static_cast<Team>(behavior), view);
+}
+
+}  // namespace rlt

@@ -1,0 +1,187 @@
+// HideAndSeek: drones that hide and seek in a Bullet world with a room, props and obstacles
+// (SPEC.md section 6; metrics of section 8). Built from the drone pieces of env/drone/: BulletWorld,
+// Arena, DroneBody, PropSet and obstacles, RaySensor, vision (sees, assault_horizon).
+//
+// Behaviors: "Hider" (2 slots, group 0, agent id = slot) and "Seeker" (4 slots, group 1, agent id =
+// 2 + slot); `num_hiders` (1-2) and `num_seekers` (1-4) pick how many are used, the other slots stay
+// kAbsent. Both have the same action spec:
+//   continuous 4 in [-1, 1]: forward thrust, strafe (to the right), vertical thrust, yaw rate;
+//   discrete branch "grab" {0 release, 1 hold}, branch "lock" {0 none, 1 lock, 2 unlock}.
+// Seekers cannot grab or lock: their masks allow only option 0 of both branches (1 = allowed), and
+// the env ignores a forbidden option. Grab and lock act once, at the start of a decision (PropSet
+// rules: reach 1.5 m, a 60-degree front cone; hold keeps a held prop; a hider that locks the prop it
+// holds lets go of it; only the locking team may unlock).
+//
+// Time: physics at 50 Hz; an agent decides every `decision_period` (3) frames and its thrust is
+// repeated for those frames. An episode lasts at most `episode_frames` (3072) frames; the first
+// round(prep_fraction * episode_frames) frames (40%: 1228) are the prep phase, in which seekers are
+// frozen (zero linear and angular factors: they neither fly nor get pushed) but observe.
+//
+// Start (seeded): the arena of `level` (1-4; arena.h), hiders inside the room (levels 3 and 4: half
+// of them, on average, within 2.5 m outside it), seekers outside the room at least 2 m from its
+// walls, all at 1 m height with random yaw; props per level: 1: one, next to doorway 0, parallel to
+// its wall; 2: two, in the room at least 2.5 m from every opening; 3: three anywhere in the room;
+// 4: four anywhere in the arena; random yaw from level 2 on. Obstacles (level 3: 3, level 4: 5) at
+// random free places on the floor. Every spawn keeps clear of walls and of earlier spawns.
+//
+// Seeing (each physics frame): seeker s sees hider h when sees(world, s, h) of vision.h (135-degree
+// cone, `vision_range` 20 m, unobstructed line of sight). A hider is hidden when no seeker sees it.
+// Tagging (test phase only): a seeker whose centre is within 2 drone radii + `tag_distance` (0.1 m)
+// of a hider's centre tags it. A tagged hider gets its penalty, leaves (kLast, terminated) and its
+// body is removed. With `end_on_tag` = 1 (default) the first tag ends the episode for everyone
+// (terminated); otherwise it ends when every hider is tagged, or at the frame limit (truncated).
+// Closing: opening o (open at the level) is closed while a locked prop covers more than half of it
+// (covered_fraction of arena.h); checked at every decision.
+//
+// Rewards, `reward_preset` 0 = the paper's (sizes are parameters, defaults in brackets):
+//   hider (reward): + hide_reward (0.001; level 4: hide_reward_level4 0.0005) per test-phase frame
+//     in which no seeker sees it; + close_reward (0.1) the first time in the episode each opening
+//     becomes closed (every hider in the game gets it: the room is shared); + tagged_reward (-1)
+//     when tagged.
+//   seeker: reward + seen_reward (0.001) per test-phase frame per hider it sees, times the
+//     assault-horizon signal clipped to [0, 1] when `assault_weighting` = 1; group_reward +
+//     tag_reward (1) per tagged hider.
+// `reward_preset` 1 = "baker" (OpenAI's zero-sum team reward): at the end of every test-phase
+//   decision each hider gets +1 when every hider is hidden, -1 otherwise, and each seeker gets the
+//   opposite as group_reward; no other reward, and nobody is tagged.
+// The seen-based rewards (hide, seen, baker) are paid in the test phase only: in the prep phase the
+// seekers cannot act.
+//
+// Observations, the same four for both behaviors, every value in [-1, 1] (vector) or [0, 1]:
+//  "vector" [18]: [0, 3) position: x / half_size, 2 y / height - 1, z / half_size;
+//    [3, 6) velocity / max_speed; [6, 9) forward vector (unit, horizontal); [9, 11) sin and cos of
+//    yaw; [11] dragging flag (holds a prop); [12] frame / episode_frames; [13] prep-phase flag;
+//    [14, 17) the nearest opponent this agent sees (hider: seekers in its own cone, seeker: hiders)
+//    relative to it in its own frame (right, up, forward) / vision_range; [17] 1 when one is seen
+//    (else the three values before are 0). Values are clipped to [-1, 1].
+//  "rays" [119]: RaySensor with its defaults (17 rays over 360 degrees, 20 m, sphere radius 0.3).
+//
+// Metrics of an episode (SPEC section 8): tag_rate (1 when a hider was tagged), seen_fraction
+// (share of test-phase frames in which some hider was seen), fort_rate (1 when every open opening
+// was closed at the end of the prep phase), openings_closed (how many then), hidden_fraction (share
+// of test-phase frames in which every hider in the game was hidden) and tagged (count).
+// Recording (set_recording): every body of the world with its pose at every frame, and the events
+// grab, release, lock, unlock (body: the hider, other: the prop), tag (body: the hider), closed
+// (other: the opening's index, 0-3 as in arena.h) and prep_end.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "env/drone/arena.h"
+#include "env/drone/bullet_world.h"
+#include "env/drone/drone_body.h"
+#include "env/drone/prop.h"
+#include "env/drone/ray_sensor.h"
+#include "rl/env_api/env.h"
+#include "rl/env_api/recording.h"
+
+namespace rlt {
+
+class HideAndSeek : public Env {
+ public:
+  enum Team { kHider = 0, kSeeker = 1 };
+  static constexpr int kMaxHiders = 2;
+  static constexpr int kMaxSeekers = 4;
+  static constexpr int kVectorSize = 18;
+  static constexpr int kMaxEpisodeFrames = 6144;  // largest `episode_frames`
+  static constexpr int kGrabBranch = 0;           // options: 0 release, 1 hold
+  static constexpr int kLockBranch = 1;           // options: 0 none, 1 lock, 2 unlock
+
+  // one agent's drone and its state in the episode
+  struct Agent {
+    Team team = kHider;
+    int slot = 0;
+    bool present = false;                  // slot in use and not tagged
+    std::unique_ptr<drone::DroneBody> drone;  // null when absent
+    std::array<float, 4> thrust{};         // the decision's continuous action, held for its frames
+  };
+
+  HideAndSeek();
+  ~HideAndSeek() override;
+
+  const EnvSpec& spec() const override { return spec_; }
+  void seed(uint64_t seed) override;
+  void reset(StepView& out) override;
+  void step(StepView& io) override;
+  EpisodeMetrics episode_metrics() const override;
+  bool write_scripted_actions(int behavior, BehaviorView& view) override;
+  void set_recording(bool on) override { recording_on_ = on; }
+  bool take_recording(EpisodeRecording& out) override;
+
+  // state of the current episode, for tests and scripted policies
+  drone::BulletWorld& world() { return *world_; }
+  const drone::Arena& arena() const { return *arena_; }
+  drone::PropSet& props() { return *props_; }
+  const std::vector<btRigidBody*>& obstacles() const { return obstacles_; }
+  Agent& agent(Team team, int slot) { return agents_[team == kHider ? slot : kMaxHiders + slot]; }
+  const Agent& agent(Team team, int slot) const {
+    return agents_[team == kHider ? slot : kMaxHiders + slot];
+  }
+  int num_agents(Team team) const { return num_agents_[team]; }
+  long frame() const { return frame_; }
+  long prep_frames() const { return prep_frames_; }
+  bool in_prep() const { return frame_ < prep_frames_; }
+  int level() const { return level_; }
+  // whether open opening `o` is closed by a locked prop now, and how many open ones are
+  bool opening_closed(int o) const;
+  int count_closed() const;
+  // true when some seeker in the game sees hider `h` now
+  bool hider_seen(int h) const;
+
+ private:
+  struct Settings;
+  void build_episode();
+  void apply_grab_and_lock(Agent& agent, const int* discrete);
+  void run_frame(StepView& io);
+  void tag(Agent& hider, StepView& io);
+  void check_openings(StepView& io);
+  void pay_baker_rewards(StepView& io);
+  void write_observation(BehaviorView& view, const Agent& agent);
+  void write_mask(BehaviorView& view, const Agent& agent) const;
+  void end_episode(StepView& io, bool terminated);
+  void record_frame();
+  // an event for the recording: `body` did it to `other` (or to the thing numbered `index`)
+  void record_event(const char* type, const btCollisionObject* body,
+                    const btCollisionObject* other, int index = -1);
+  static int agent_id(const Agent& a) { return a.team == kHider ? a.slot : kMaxHiders + a.slot; }
+
+  EnvSpec spec_;
+  std::mt19937_64 engine_;
+  std::unique_ptr<Settings> settings_;
+  drone::RaySensor rays_;
+
+  std::unique_ptr<drone::BulletWorld> world_;
+  std::unique_ptr<drone::Arena> arena_;
+  std::unique_ptr<drone::PropSet> props_;
+  std::vector<btRigidBody*> obstacles_;
+  std::array<Agent, kMaxHiders + kMaxSeekers> agents_;  // hiders, then seekers
+
+  int num_agents_[2] = {2, 2};
+  int level_ = 1;
+  long frame_ = 0;
+  long prep_frames_ = 0;
+  bool over_ = false;
+  std::array<bool, drone::kNumOpenings> ever_closed_{};
+
+  // metrics
+  int tagged_ = 0;
+  long test_frames_ = 0;
+  long seen_frames_ = 0;
+  long hidden_frames_ = 0;
+  int closed_at_prep_end_ = 0;
+  bool fort_ = false;
+  bool last_all_hidden_ = true;  // at the last test-phase frame (baker reward)
+
+  // recording
+  bool recording_on_ = false;
+  EpisodeRecording recording_;
+  std::vector<RecordedEvent> pending_events_;  // of the frame being run
+  std::vector<const btCollisionObject*> recorded_initial_;  // [bodies] as the episode started
+  std::vector<const btCollisionObject*> recorded_objects_;  // [bodies] null once removed
+};
+
+}  // namespace rlt

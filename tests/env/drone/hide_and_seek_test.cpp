@@ -1,0 +1,289 @@
+// HideAndSeek: conformance at every level, the prep phase freezes seekers, tags, masks, closing an
+// opening, the reward presets, and the scripted policies (SPEC.md section 6, issue 4).
+#include "env/drone/hide_and_seek.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "env/register_builtin_envs.h"
+#include "rl/env_api/conformance.h"
+#include "tests/env/single_env_harness.h"
+
+namespace rlt {
+namespace {
+
+using Team = HideAndSeek::Team;
+
+// a harness with both behaviors and helpers to drive one HideAndSeek
+struct Game {
+  explicit Game(const Parameters& p, uint64_t seed = 1) {
+    env.set_parameters(p);
+    env.seed(seed);
+    harness.reset();
+  }
+  BehaviorBuffers& hiders() { return harness.buffers(HideAndSeek::kHider); }
+  BehaviorBuffers& seekers() { return harness.buffers(HideAndSeek::kSeeker); }
+  // every agent's thrust (4 floats) and discrete choices
+  void set_all(float forward, int grab = 0, int lock = 0) {
+    for (auto* b : {&hiders(), &seekers()}) {
+      for (int r = 0; r < b->rows; ++r) {
+        for (int k = 0; k < 4; ++k) b->continuous_actions[r * 4 + k] = 0.0f;
+        b->continuous_actions[r * 4] = forward;
+        b->discrete_actions[r * 2] = grab;
+        b->discrete_actions[r * 2 + 1] = lock;
+      }
+    }
+  }
+  // scripted actions for one team
+  void script(Team team) {
+    StepView views;
+    views.emplace_back(&hiders(), 0);
+    views.emplace_back(&seekers(), 0);
+    ASSERT_TRUE(env.write_scripted_actions(team, views[team]));
+  }
+  bool over() {
+    for (auto* b : {&hiders(), &seekers()})
+      for (int r = 0; r < b->rows; ++r)
+        if (needs_action(b->step_type[r])) return false;
+    return true;
+  }
+  HideAndSeek env;
+  SingleEnvHarness harness{env};
+};
+
+TEST(HideAndSeekTest, ConformsAtEveryLevel) {
+  register_builtin_envs();
+  for (int level = 1; level <= 4; ++level) {
+    ConformanceOptions opts;
+    opts.steps = 260;  // two short episodes and a bit
+    const Parameters p = {{"level", float(level)}, {"episode_frames", 360.f},
+                          {"num_hiders", level == 1 ? 1.f : 2.f},
+                          {"num_seekers", float(level)}, {"end_on_tag", level % 2 ? 1.f : 0.f}};
+    const auto violations = check_env_conformance("HideAndSeek", p, opts);
+    EXPECT_TRUE(violations.empty()) << "level " << level << ": " << violations.front();
+  }
+  // the baker preset too
+  ConformanceOptions opts;
+  opts.steps = 130;
+  const auto violations = check_env_conformance(
+      "HideAndSeek", {{"level", 2.f}, {"reward_preset", 1.f}, {"episode_frames", 300.f}}, opts);
+  EXPECT_TRUE(violations.empty()) << violations.front();
+}
+
+TEST(HideAndSeekTest, BadParametersAreNamed) {
+  for (const auto& [name, value] : std::vector<std::pair<std::string, float>>{
+           {"level", 5.f}, {"num_seekers", 0.f}, {"num_hiders", 2.5f}, {"prep_fraction", -1.f}}) {
+    HideAndSeek env;
+    env.set_parameters({{name, value}});
+    SingleEnvHarness harness(env);
+    try {
+      harness.reset();
+      FAIL() << name << " = " << value << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(HideAndSeekTest, SeekersDoNotMoveInThePrepPhase) {
+  Game g({{"level", 4.f}, {"num_seekers", 4.f}, {"episode_frames", 600.f}});
+  std::vector<btVector3> start;
+  for (int s = 0; s < 4; ++s) start.push_back(g.env.agent(HideAndSeek::kSeeker, s).drone->position());
+  // full thrust for everyone; hiders fly into whatever is ahead
+  g.set_all(1.0f);
+  while (g.env.in_prep()) {
+    g.harness.step();
+    for (int s = 0; s < 4; ++s)
+      ASSERT_LT((g.env.agent(HideAndSeek::kSeeker, s).drone->position() - start[s]).length(), 1e-6f)
+          << "seeker " << s << " moved at frame " << g.env.frame();
+  }
+  EXPECT_FLOAT_EQ(g.harness.buffers(0).observations[0][13], 0.0f);  // prep flag off now
+  for (int i = 0; i < 5; ++i) g.harness.step();
+  float moved = 0;
+  for (int s = 0; s < 4; ++s)
+    moved += (g.env.agent(HideAndSeek::kSeeker, s).drone->position() - start[s]).length();
+  EXPECT_GT(moved, 0.5f);  // and they fly once it is over
+}
+
+TEST(HideAndSeekTest, SeekersCannotGrabOrLock) {
+  Game g({{"level", 1.f}});
+  const uint8_t* hider_mask = g.hiders().action_mask.data();
+  const uint8_t* seeker_mask = g.seekers().action_mask.data();
+  EXPECT_EQ(std::vector<int>(hider_mask, hider_mask + 5), std::vector<int>({1, 1, 1, 1, 1}));
+  EXPECT_EQ(std::vector<int>(seeker_mask, seeker_mask + 5), std::vector<int>({1, 0, 1, 0, 0}));
+  // a seeker put next to the prop that asks to grab and lock anyway changes nothing
+  auto& seeker = *g.env.agent(HideAndSeek::kSeeker, 0).drone;
+  const btVector3 prop = g.env.props()[0].position();
+  btTransform pose = seeker.body().getWorldTransform();
+  pose.setOrigin(prop + btVector3(0, 0, 1.0f));
+  pose.setRotation(btQuaternion(btVector3(0, 1, 0), 3.14159265f));  // facing -z, the prop
+  seeker.body().setWorldTransform(pose);
+  g.set_all(0.0f, 1, 1);
+  g.harness.step();
+  EXPECT_FALSE(g.env.props()[0].locked());
+  EXPECT_EQ(g.env.props()[0].held_by, nullptr);
+}
+
+TEST(HideAndSeekTest, TagEndsTheEpisodeWithRewards) {
+  Game g({{"level", 1.f}, {"num_hiders", 1.f}, {"num_seekers", 2.f}, {"episode_frames", 300.f}});
+  g.set_all(0.0f);
+  while (g.env.in_prep()) g.harness.step();
+  // put seeker 0 right next to the hider
+  auto& hider = *g.env.agent(HideAndSeek::kHider, 0).drone;
+  auto& seeker = *g.env.agent(HideAndSeek::kSeeker, 0).drone;
+  btTransform pose = seeker.body().getWorldTransform();
+  pose.setOrigin(hider.position() + btVector3(0.75f, 0, 0));
+  seeker.body().setWorldTransform(pose);
+  g.harness.step();
+  EXPECT_EQ(g.hiders().step_type[0], StepType::kLast);
+  EXPECT_EQ(g.hiders().terminated[0], 1);
+  EXPECT_LE(g.hiders().reward[0], -1.0f + 0.01f);
+  for (int s = 0; s < 2; ++s) {
+    EXPECT_EQ(g.seekers().step_type[s], StepType::kLast);
+    EXPECT_EQ(g.seekers().terminated[s], 1);
+    EXPECT_FLOAT_EQ(g.seekers().group_reward[s], 1.0f);
+  }
+  const auto m = g.env.episode_metrics();
+  EXPECT_EQ(m.at("tag_rate"), 1.0f);
+  EXPECT_EQ(m.at("tagged"), 1.0f);
+}
+
+TEST(HideAndSeekTest, NoTagInThePrepPhase) {
+  Game g({{"level", 1.f}, {"num_hiders", 1.f}, {"num_seekers", 1.f}});
+  auto& hider = *g.env.agent(HideAndSeek::kHider, 0).drone;
+  auto& seeker = *g.env.agent(HideAndSeek::kSeeker, 0).drone;
+  btTransform pose = hider.body().getWorldTransform();
+  pose.setOrigin(seeker.position() + btVector3(0.75f, 0, 0));
+  hider.body().setWorldTransform(pose);
+  g.set_all(0.0f);
+  g.harness.step();
+  EXPECT_EQ(g.hiders().step_type[0], StepType::kMid);
+  EXPECT_EQ(g.hiders().reward[0], 0.0f);  // nothing is paid in the prep phase
+}
+
+TEST(HideAndSeekTest, HidingPaysPerTestPhaseFrame) {
+  // level 1, one hider in the room, one seeker outside facing away: the hider is hidden
+  Game g({{"level", 1.f}, {"num_hiders", 1.f}, {"num_seekers", 1.f}, {"prep_fraction", 0.f}});
+  g.set_all(0.0f);
+  bool seen = g.env.hider_seen(0);
+  g.harness.step();
+  if (!seen && !g.env.hider_seen(0)) {
+    EXPECT_NEAR(g.hiders().reward[0], 3 * 0.001f, 1e-6f);
+    EXPECT_EQ(g.seekers().reward[0], 0.0f);
+  }
+  // now put the seeker in the room facing the hider: 3 frames seen
+  auto& hider = *g.env.agent(HideAndSeek::kHider, 0).drone;
+  auto& seeker = *g.env.agent(HideAndSeek::kSeeker, 0).drone;
+  btTransform pose = seeker.body().getWorldTransform();
+  const btVector3 at = hider.position() + btVector3(0, 0, hider.position().z() > 0 ? -2.0f : 2.0f);
+  pose.setOrigin(at);
+  const btVector3 to = hider.position() - at;
+  pose.setRotation(btQuaternion(btVector3(0, 1, 0), std::atan2(to.x(), to.z())));
+  seeker.body().setWorldTransform(pose);
+  g.harness.step();
+  EXPECT_NEAR(g.seekers().reward[0], 3 * 0.001f, 1e-6f);
+  EXPECT_EQ(g.hiders().reward[0], 0.0f);
+}
+
+TEST(HideAndSeekTest, LockedPropClosesTheDoorwayOnce) {
+  Game g({{"level", 1.f}, {"num_hiders", 1.f}, {"num_seekers", 1.f}});
+  EXPECT_EQ(g.env.count_closed(), 0);
+  // move the prop flat over doorway 0 and lock it with the hider
+  const drone::Opening& door = g.env.arena().openings()[0];
+  auto& props = g.env.props();
+  btTransform prop_pose = props[0].body->getWorldTransform();
+  btVector3 centre = door.centre - door.normal * 0.25f;
+  centre.setY(props[0].half.y() + 0.02f);
+  prop_pose.setOrigin(centre);
+  prop_pose.setRotation(btQuaternion::getIdentity());
+  props[0].body->setWorldTransform(prop_pose);
+  auto& hider = *g.env.agent(HideAndSeek::kHider, 0).drone;
+  btTransform pose = hider.body().getWorldTransform();
+  pose.setOrigin(centre - door.normal * 1.2f + btVector3(0, 0, 0));
+  pose.setRotation(btQuaternion(btVector3(0, 1, 0), std::atan2(door.normal.x(), door.normal.z())));
+  hider.body().setWorldTransform(pose);
+  g.set_all(0.0f, 0, 1);
+  g.harness.step();
+  ASSERT_TRUE(props[0].locked());
+  EXPECT_TRUE(g.env.opening_closed(0));
+  EXPECT_NEAR(g.hiders().reward[0], 0.1f, 1e-6f);
+  g.set_all(0.0f);
+  g.harness.step();
+  EXPECT_EQ(g.hiders().reward[0], 0.0f);  // paid once
+  while (g.env.in_prep()) g.harness.step();
+  const auto m = g.env.episode_metrics();
+  EXPECT_EQ(m.at("fort_rate"), 1.0f);
+  EXPECT_EQ(m.at("openings_closed"), 1.0f);
+}
+
+TEST(HideAndSeekTest, BakerPresetIsZeroSumPerDecision) {
+  Game g({{"level", 2.f}, {"reward_preset", 1.f}, {"prep_fraction", 0.1f}, {"episode_frames", 300.f}});
+  g.set_all(0.3f);
+  int test_steps = 0;
+  while (!g.over()) {
+    const bool prep = g.env.in_prep();
+    g.harness.step();
+    const float h = g.hiders().reward[0];
+    if (prep && g.env.in_prep()) {
+      EXPECT_EQ(h, 0.0f);
+      continue;
+    }
+    if (g.env.in_prep()) continue;
+    ++test_steps;
+    EXPECT_TRUE(h == 1.0f || h == -1.0f) << h;
+    EXPECT_EQ(g.hiders().reward[1], h);
+    EXPECT_EQ(g.seekers().group_reward[0], -h);
+    EXPECT_EQ(g.seekers().reward[0], 0.0f);
+  }
+  EXPECT_GT(test_steps, 50);
+}
+
+TEST(HideAndSeekTest, SameSeedSameEpisode) {
+  auto run = [](uint64_t seed) {
+    Game g({{"level", 4.f}, {"episode_frames", 240.f}, {"prep_fraction", 0.2f}}, seed);
+    std::vector<float> trace;
+    for (int i = 0; i < 80 && !g.over(); ++i) {
+      g.script(HideAndSeek::kHider);
+      g.script(HideAndSeek::kSeeker);
+      g.harness.step();
+      trace.insert(trace.end(), g.hiders().observations[0].begin(), g.hiders().observations[0].end());
+    }
+    return trace;
+  };
+  EXPECT_EQ(run(7), run(7));
+  EXPECT_NE(run(7), run(8));
+}
+
+// the scripted policies: hiders close the doorway, seekers catch a still hider (issue 4 asks for
+// >= 80% of 20 episodes each; rlt_cli_test checks the same through `rlt eval`)
+TEST(HideAndSeekTest, ScriptedHiderClosesTheDoorway) {
+  int closed = 0;
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    Game g({{"level", 1.f}}, seed);
+    g.set_all(0.0f);
+    while (g.env.in_prep() && !g.over()) {
+      g.script(HideAndSeek::kHider);
+      g.harness.step();
+    }
+    closed += g.env.episode_metrics().at("fort_rate") == 1.0f;
+  }
+  EXPECT_GE(closed, 16) << closed << " of 20";
+}
+
+TEST(HideAndSeekTest, ScriptedSeekerTagsAStillHider) {
+  int tagged = 0;
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    Game g({{"level", 1.f}}, seed);
+    g.set_all(0.0f);
+    while (!g.over()) {
+      g.script(HideAndSeek::kSeeker);
+      g.harness.step();
+    }
+    tagged += g.env.episode_metrics().at("tag_rate") == 1.0f;
+  }
+  EXPECT_GE(tagged, 16) << tagged << " of 20";
+}
+
+}  // namespace
+}  // namespace rlt
