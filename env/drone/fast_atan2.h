@@ -4,8 +4,10 @@
 //
 // Method: with a = min(|y|, |x|) / max(|y|, |x|) in [0, 1], atan(a) is an odd minimax polynomial of
 // degree 11; then atan2 = pi/2 - atan(a) when |y| > |x|, pi - that when x < 0, and the sign of y.
-// Max error against std::atan2 over all directions: about 1e-5 rad (6e-4 degrees; checked in
-// grid_sensor_test.cpp with a bound of 2e-5 rad), far below a grid cell (>= 1 degree).
+// Max error against std::atan2 over all directions: 1.9e-6 rad measured (1e-4 degrees); tested in
+// grid_sensor_test.cpp against the bound kFastAtan2MaxError = 2e-5 rad, which also covers latitude
+// as fast_atan2(up, horizontal) against std::asin(up / distance) (1.6e-5 rad near the poles, from
+// float rounding in asin). Both are far below a grid cell (degrees).
 // atan2(0, 0) = 0. Units: radians in [-pi, pi].
 #ifndef RLT_ENV_DRONE_FAST_ATAN2_H_
 #define RLT_ENV_DRONE_FAST_ATAN2_H_

@@ -89,6 +89,24 @@ bool inside_keep(const btVector3& p, const btVector3& lo, const btVector3& hi) {
          p.y() <= hi.y() && p.z() <= hi.z();
 }
 
+// world = pose * local for n points (out of line: GCC 12 vectorizes it here, not inlined)
+__attribute__((noinline)) void transform_points(const btTransform& pose, int n,
+                                                const float* __restrict lx,
+                                                const float* __restrict ly,
+                                                const float* __restrict lz, float* __restrict wx,
+                                                float* __restrict wy, float* __restrict wz) {
+  const btMatrix3x3& r = pose.getBasis();
+  const float r00 = r[0][0], r01 = r[0][1], r02 = r[0][2];
+  const float r10 = r[1][0], r11 = r[1][1], r12 = r[1][2];
+  const float r20 = r[2][0], r21 = r[2][1], r22 = r[2][2];
+  const float tx = pose.getOrigin().x(), ty = pose.getOrigin().y(), tz = pose.getOrigin().z();
+  for (int i = 0; i < n; ++i) {
+    wx[i] = r00 * lx[i] + r01 * ly[i] + r02 * lz[i] + tx;
+    wy[i] = r10 * lx[i] + r11 * ly[i] + r12 * lz[i] + ty;
+    wz[i] = r20 * lx[i] + r21 * ly[i] + r22 * lz[i] + tz;
+  }
+}
+
 }  // namespace
 
 SurfacePoints::SurfacePoints(const SurfacePointsParams& params) : params_(params) {}
@@ -186,25 +204,11 @@ void SurfacePoints::update(const BulletWorld& world) {
   // world = R * local + t per dynamic body, over its contiguous range
   for (const SurfaceBody& body : bodies_) {
     if (!body.dynamic) continue;
-    const btTransform& pose = body.object->getWorldTransform();
-    const btMatrix3x3& r = pose.getBasis();
-    const float r00 = r[0][0], r01 = r[0][1], r02 = r[0][2];
-    const float r10 = r[1][0], r11 = r[1][1], r12 = r[1][2];
-    const float r20 = r[2][0], r21 = r[2][1], r22 = r[2][2];
-    const float tx = pose.getOrigin().x(), ty = pose.getOrigin().y(), tz = pose.getOrigin().z();
-    const int n = body.end - body.begin;
     const int local_begin = body.begin - num_static_points_;
-    const float* __restrict lx = local_x_.data() + local_begin;
-    const float* __restrict ly = local_y_.data() + local_begin;
-    const float* __restrict lz = local_z_.data() + local_begin;
-    float* __restrict wx = x_.data() + body.begin;
-    float* __restrict wy = y_.data() + body.begin;
-    float* __restrict wz = z_.data() + body.begin;
-    for (int i = 0; i < n; ++i) {
-      wx[i] = r00 * lx[i] + r01 * ly[i] + r02 * lz[i] + tx;
-      wy[i] = r10 * lx[i] + r11 * ly[i] + r12 * lz[i] + ty;
-      wz[i] = r20 * lx[i] + r21 * ly[i] + r22 * lz[i] + tz;
-    }
+    transform_points(body.object->getWorldTransform(), body.end - body.begin,
+                     local_x_.data() + local_begin, local_y_.data() + local_begin,
+                     local_z_.data() + local_begin, x_.data() + body.begin,
+                     y_.data() + body.begin, z_.data() + body.begin);
   }
 }
 
