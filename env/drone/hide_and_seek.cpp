@@ -58,12 +58,35 @@ struct HideAndSeek::Settings {
   float vision_cone = drone::kDefaultConeDegrees;
 };
 
-HideAndSeek::HideAndSeek() : settings_(std::make_unique<Settings>()) {
+namespace {
+// surface points for the grids; the static ones are kept inside the arena's inner volume
+drone::SurfacePointsParams surface_points_params() {
+  const drone::ArenaParams arena;
+  drone::SurfacePointsParams p;
+  const float h = arena.half_size + 0.01f;
+  p.static_keep_min = btVector3(-h, -0.01f, -h);
+  p.static_keep_max = btVector3(h, arena.height + 0.01f, h);
+  return p;
+}
+std::vector<int> grid_shape(const drone::GridSensor& g) {
+  return {g.lat_cells(), g.lon_cells(), drone::kNumTags};
+}
+}  // namespace
+
+HideAndSeek::HideAndSeek()
+    : settings_(std::make_unique<Settings>()),
+      spatial_grid_(drone::GridSensorParams::spatial()),
+      frontal_grid_(drone::GridSensorParams::frontal()),
+      points_(surface_points_params()) {
   spec_.name = "HideAndSeek";
   BehaviorSpec hider;
   hider.name = "Hider";
   hider.observations.push_back({"vector", {kVectorSize}, ObservationKind::kVector, -1.f, 1.f});
   hider.observations.push_back({"rays", {rays_.size()}, ObservationKind::kVector, 0.f, 1.f});
+  hider.observations.push_back(
+      {"spatial_grid", grid_shape(spatial_grid_), ObservationKind::kGrid, 0.f, 1.f});
+  hider.observations.push_back(
+      {"frontal_grid", grid_shape(frontal_grid_), ObservationKind::kGrid, 0.f, 1.f});
   hider.action.continuous_size = 4;
   hider.action.discrete_branches = {2, 3};
   hider.agent_slots = kMaxHiders;
@@ -328,6 +351,7 @@ void HideAndSeek::reset(StepView& out) {
   recorded_objects_.clear();
   recorded_initial_.clear();
   build_episode();
+  points_.update(*world_);
   for (int t = 0; t < 2; ++t) {
     BehaviorView& view = out[t];
     for (int slot = 0; slot < view.slots(); ++slot) {
@@ -415,6 +439,7 @@ void HideAndSeek::tag(Agent& hider, StepView& io) {
   hv.reward(hider.slot) += s.tagged_reward;
   hv.terminated(hider.slot) = 1;
   hv.step_type(hider.slot) = StepType::kLast;
+  points_.update(*world_);
   write_observation(hv, hider);
   BehaviorView& sv = io[kSeeker];
   for (int slot = 0; slot < num_agents_[kSeeker]; ++slot)
@@ -541,6 +566,7 @@ void HideAndSeek::step(StepView& io) {
   }
   check_openings(io);
   if (s.reward_preset == 1 && !in_prep()) pay_baker_rewards(io);
+  points_.update(*world_);
 
   const bool truncated = !over_ && frame_ >= s.episode_frames;
   if (over_ || truncated) {
@@ -623,6 +649,10 @@ void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
   v[16] = seen ? clip1(rel.dot(fwd) / s.vision_range) : 0.0f;
   v[17] = seen ? 1.0f : 0.0f;
   rays_.observe(world_->world(), d.body(), view.observation(a.slot, 1));
+  const drone::GridSensor* grids[2] = {&spatial_grid_, &frontal_grid_};
+  float* outs[2] = {view.observation(a.slot, 2), view.observation(a.slot, 3)};
+  drone::GridSensor::observe_many(grids, outs, 2, points_, points_.body_index(d.body()),
+                                  d.body().getWorldTransform());
 }
 
 void HideAndSeek::record_frame() {

@@ -55,6 +55,10 @@
 //    relative to it in its own frame (right, up, forward) / vision_range; [17] 1 when one is seen
 //    (else the three values before are 0). Values are clipped to [-1, 1].
 //  "rays" [119]: RaySensor with its defaults (17 rays over 360 degrees, 20 m, sphere radius 0.3).
+//  "spatial_grid" [6, 12, 5] and "frontal_grid" [9, 8, 5]: GridSensor's spatial() and frontal()
+//    presets (grid_sensor.h) over the surface points of every body (walls at 1 m, bodies at 0.3 m;
+//    the floor and ceiling are not detectable: the vector carries the height), the agent's own
+//    body left out.
 //
 // Metrics of an episode (SPEC section 8): tag_rate (1 when a hider was tagged), seen_fraction
 // (share of test-phase frames in which some hider was seen), fort_rate (1 when every open opening
@@ -74,8 +78,10 @@
 #include "env/drone/arena.h"
 #include "env/drone/bullet_world.h"
 #include "env/drone/drone_body.h"
+#include "env/drone/grid_sensor.h"
 #include "env/drone/prop.h"
 #include "env/drone/ray_sensor.h"
+#include "env/drone/surface_points.h"
 #include "rl/env_api/env.h"
 #include "rl/env_api/recording.h"
 
@@ -153,6 +159,9 @@ class HideAndSeek : public Env {
   std::mt19937_64 engine_;
   std::unique_ptr<Settings> settings_;
   drone::RaySensor rays_;
+  drone::GridSensor spatial_grid_;
+  drone::GridSensor frontal_grid_;
+  drone::SurfacePoints points_;
 
   std::unique_ptr<drone::BulletWorld> world_;
   std::unique_ptr<drone::Arena> arena_;
