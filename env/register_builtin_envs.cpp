@@ -5,6 +5,9 @@
 
 #include "env/classic/cartpole.h"
 #include "env/classic/pendulum.h"
+#include "env/drone/eye.h"
+#include "env/drone/hummingbird.h"
+#include "env/drone/target_drone.h"
 #include "env/toy/duel.h"
 #include "env/toy/escape.h"
 #include "env/toy/hybrid_reach.h"
@@ -37,6 +40,10 @@ void register_builtin_envs() {
     add_env<Escape>("Escape");
     add_env<Pursuit>("Pursuit");
     add_env<Duel>("Duel");
+    // drone tasks (SPEC section 7): the paper's pre-experiments on the Bullet drone world
+    add_env<Hummingbird>("Hummingbird");
+    add_env<TargetDrone>("TargetDrone");
+    add_env<Eye>("Eye");
   });
 }
 
