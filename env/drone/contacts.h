@@ -38,8 +38,7 @@ struct ContactPair {
 ContactPair make_contact_pair(const btCollisionObject* x, const btCollisionObject* y);
 
 // pairs touching after the last frame, in the dispatcher's manifold order
-std::vector<ContactPair> touching_pairs(BulletWorld& world,
-                                        float epsilon = kDefaultContactEpsilon);
+std::vector<ContactPair> touching_pairs(BulletWorld& world, float epsilon = kDefaultContactEpsilon);
 
 class ContactTracker {
  public:

@@ -26,12 +26,11 @@ int int_parameter(const Env& env, const std::string& name, int lo, int hi) {
   return std::clamp(static_cast<int>(std::lround(env.parameter(name))), lo, hi);
 }
 
-Parameters drone_task_parameters(float episode_length, float arena_half_size,
-                                 float arena_height) {
+Parameters drone_task_parameters(float episode_length, float arena_half_size, float arena_height) {
   const DroneParams d;
-  return {{"episode_length", episode_length},  {"decision_period", 3.f},
-          {"arena_half_size", arena_half_size}, {"arena_height", arena_height},
-          {"drone_max_speed", d.max_speed},     {"drone_max_force", d.max_force},
+  return {{"episode_length", episode_length},    {"decision_period", 3.f},
+          {"arena_half_size", arena_half_size},  {"arena_height", arena_height},
+          {"drone_max_speed", d.max_speed},      {"drone_max_force", d.max_force},
           {"drone_max_yaw_rate", d.max_yaw_rate}};
 }
 

@@ -52,10 +52,10 @@ inline constexpr int kMaxDecisionPeriod = 10;
 
 // settings shared by the tasks, read from the env's parameters at reset
 struct DroneTaskSettings {
-  ArenaParams arena;         // open (room = false), size from the parameters
-  DroneParams drone;         // the agents' drones: speed, force, yaw rate from the parameters
-  int decision_period = 3;   // frames per decision
-  int episode_frames = 3000; // frames per episode
+  ArenaParams arena;          // open (room = false), size from the parameters
+  DroneParams drone;          // the agents' drones: speed, force, yaw rate from the parameters
+  int decision_period = 3;    // frames per decision
+  int episode_frames = 3000;  // frames per episode
 };
 
 // the common parameters with a task's defaults
@@ -88,9 +88,8 @@ class DroneTask {
   // (clamped to the shrunk height), free for a sphere of `clearance` and at least `min_distance`
   // from every point of `away`; after 1000 failed draws the last draw is returned
   btVector3 sample_free_position(std::mt19937_64& rng, float clearance,
-                                 const std::vector<btVector3>& away = {},
-                                 float min_distance = 0.0f, float y_min = 0.0f,
-                                 float y_max = 1e9f);
+                                 const std::vector<btVector3>& away = {}, float min_distance = 0.0f,
+                                 float y_min = 0.0f, float y_max = 1e9f);
 
   // one physics frame: world step, contacts updated, frame counter advanced
   void step_frame();

@@ -30,8 +30,8 @@ Eye::Eye() {
 
 void Eye::update_sight() {
   for (int i = 0; i < kDrones; ++i)
-    seen_[i] = drone::sees(task_.world(), task_.drone(i).body(), *target_, vision_cone_,
-                           vision_range_);
+    seen_[i] =
+        drone::sees(task_.world(), task_.drone(i).body(), *target_, vision_cone_, vision_range_);
 }
 
 void Eye::write_observation(BehaviorView& view, int slot) {
@@ -68,8 +68,7 @@ void Eye::reset(StepView& out) {
       engine_, std::sqrt(3.f) * half + 0.05f, {}, 0.f, kTargetMinHeight, height - kTargetMinHeight);
   target_ = task_.world().add_static_box(centre, btVector3(half, half, half), drone::kHider);
   const float clearance = settings.drone.radius + 0.05f;
-  const btVector3 first =
-      task_.sample_free_position(engine_, clearance, {centre}, spawn_distance);
+  const btVector3 first = task_.sample_free_position(engine_, clearance, {centre}, spawn_distance);
   const float yaw0 = static_cast<float>(uniform(engine_, -M_PI, M_PI));
   task_.add_drone(first, yaw0, drone::kSeeker);
   btVector3 second;

@@ -90,9 +90,9 @@ void Hummingbird::reset(StepView& out) {
   nectar_.clear();
   std::vector<btVector3> centres;
   for (int i = 0; i < num_nectar; ++i) {
-    const btVector3 c = task_.sample_free_position(engine_, nectar_radius_, centres,
-                                                   2 * nectar_radius_, kNectarMinHeight,
-                                                   height - kNectarMinHeight);
+    const btVector3 c =
+        task_.sample_free_position(engine_, nectar_radius_, centres, 2 * nectar_radius_,
+                                   kNectarMinHeight, height - kNectarMinHeight);
     centres.push_back(c);
     nectar_.push_back({c, capacity > 0 ? capacity : -1});
   }

@@ -17,8 +17,8 @@
 //     left (distance to its centre <= nectar_radius); with nectar_capacity > 0 each sphere holds
 //     that many frames of nectar and is then empty (0 = unlimited, the default);
 //   +collision_reward (-0.5) per collision: a contact of the drone with a wall, the floor, the
-//     ceiling or a pillar that starts in this frame (ContactTracker: a pair that touches now and did
-//     not touch the frame before; a drone pressed against a wall collides once).
+//     ceiling or a pillar that starts in this frame (ContactTracker: a pair that touches now and
+//     did not touch the frame before; a drone pressed against a wall collides once).
 // End: truncation after episode_length frames (kLast, terminated 0); there is no terminal state.
 // Parameters (defaults): the DroneTask ones (episode_length 3000 frames = 1000 decisions,
 // decision_period 3, arena_half_size 12, arena_height 6, drone_max_speed 5, drone_max_force 20,

@@ -22,7 +22,8 @@ TargetDrone::TargetDrone() {
                                    {"target_radius", 0.35f},
                                    {"target_reward", 1.f},
                                    {"collision_reward", -1.f},
-                                   {"spawn_distance", 5.f}});
+                                   {"spawn_distance", 5.f},
+                                   {"evade_distance", 2.f}});
 }
 
 void TargetDrone::move_target() {
@@ -34,10 +35,13 @@ void TargetDrone::move_target() {
   const btVector3 p = t.position();
   if (p.distance(waypoint_) < kWaypointReach) {
     const float height = task_.settings().arena.height;
-    waypoint_ = task_.sample_free_position(engine_, kWaypointClearance, {}, 0.f,
-                                           kWaypointMinHeight, height - kWaypointMinHeight);
+    waypoint_ = task_.sample_free_position(engine_, kWaypointClearance, {}, 0.f, kWaypointMinHeight,
+                                           height - kWaypointMinHeight);
   }
   btVector3 dir = waypoint_ - p;
+  // flee straight away from a close chaser
+  const btVector3 away = p - task_.drone(0).position();
+  if (away.length() < evade_distance_) dir = away;
   const btScalar len = dir.length();
   if (len > 1e-6f) dir /= len;
   t.apply_action(dir.dot(t.forward()), dir.dot(t.right()), dir.y(), 0.f);
@@ -69,13 +73,14 @@ void TargetDrone::reset(StepView& out) {
   target_params.max_speed = std::max(parameter("target_speed"), 0.f);
   target_params.radius = std::clamp(parameter("target_radius"), 0.05f, 0.25f * height);
   const float spawn_distance = std::max(parameter("spawn_distance"), 0.f);
+  evade_distance_ = std::max(parameter("evade_distance"), 0.f);
 
   // world; target start, first waypoint and chaser start are drawn first, then the chaser is
   // added as drone 0 and the target as drone 1
   task_.build(settings);
-  const btVector3 target_start = task_.sample_free_position(
-      engine_, target_params.radius + 0.05f, {}, 0.f, kWaypointMinHeight,
-      height - kWaypointMinHeight);
+  const btVector3 target_start =
+      task_.sample_free_position(engine_, target_params.radius + 0.05f, {}, 0.f, kWaypointMinHeight,
+                                 height - kWaypointMinHeight);
   waypoint_ = task_.sample_free_position(engine_, kWaypointClearance, {}, 0.f, kWaypointMinHeight,
                                          height - kWaypointMinHeight);
   const btVector3 start = task_.sample_free_position(engine_, settings.drone.radius + 0.05f,

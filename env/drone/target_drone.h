@@ -4,10 +4,12 @@
 // World (DroneTask conventions, drone_task.h): an open arena, default 20 x 20 x 6 m, no obstacles.
 // The target is a scripted DroneBody (tag kHider, sphere of radius target_radius, speed capped at
 // target_speed): it flies at full thrust towards a waypoint and draws the next waypoint when it is
-// within 1 m of it; waypoints are seeded, uniform over the free arena (1 m clearance) at heights
-// in [1, height - 1] m, drawn from the env's engine, so the motion is the same for the same seed
-// and the same chaser actions (a push by the chaser changes it). The chaser (tag kSeeker) spawns
-// at a seeded free place at least spawn_distance from the target, with a seeded yaw.
+// within 1 m of it, except that while the chaser's centre is closer than evade_distance it flies
+// straight away from the chaser instead (so a still drone is avoided). Waypoints are seeded,
+// uniform over the free arena (1 m clearance) at heights in [1, height - 1] m, drawn from the
+// env's engine, so the motion is the same for the same seed and the same chaser actions (a push by
+// the chaser changes it). The chaser (tag kSeeker) spawns at a seeded free place at least
+// spawn_distance from the target, with a seeded yaw.
 // Behavior "TargetDrone": 1 slot, group 0, agent id 0; 4 continuous actions in [-1, 1] (forward,
 // strafe, vertical, yaw rate) repeated for `decision_period` physics frames at 50 Hz.
 // Rewards, summed over the frames of a decision:
@@ -19,7 +21,7 @@
 // Parameters (defaults): the DroneTask ones (episode_length 1500 frames = 500 decisions,
 // decision_period 3, arena_half_size 10, arena_height 6, drone_max_speed 5, drone_max_force 20,
 // drone_max_yaw_rate 3), target_speed 2.5 (m/s), target_radius 0.35 (m), target_reward 1,
-// collision_reward -1, spawn_distance 5 (m).
+// collision_reward -1, spawn_distance 5 (m), evade_distance 2 (m, 0 = no evasion).
 // Observations:
 //   "vector" [19] in [-1, 1]: [0, 12) the DroneTask common block; [12, 15) relative position of
 //     the target (write_relative; the chaser always knows where it is); [15, 18) the target's
@@ -70,6 +72,7 @@ class TargetDrone : public Env {
   // settings of the episode
   float target_reward_ = 1.f;
   float collision_reward_ = -1.f;
+  float evade_distance_ = 2.f;
 
   // state
   btVector3 waypoint_{0, 0, 0};
