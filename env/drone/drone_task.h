@@ -6,6 +6,8 @@
 // frames (default 3) and its action is repeated for those frames (DroneBody::apply_action before
 // every frame). An episode lasts at most `episode_length` frames (truncated at the limit).
 // Actions: 4 continuous in [-1, 1]: forward thrust, strafe, vertical thrust, yaw rate.
+// The tasks declare spec.max_episode_steps = kMaxEpisodeFrames, the most decisions any setting
+// allows (episode_length at its largest with decision_period 1).
 // Common parameters of every task (task-specific defaults, see drone_task_parameters()):
 //   episode_length      frames per episode, clamped to [decision_period, kMaxEpisodeFrames]
 //   decision_period     frames per decision, clamped to [1, kMaxDecisionPeriod] (default 3)
@@ -73,7 +75,8 @@ class DroneTask {
  public:
   DroneTask();
 
-  // rebuilds the world (BulletWorld::reset) with an open arena; forgets drones and contacts
+  // rebuilds the world (BulletWorld::reset) with settings.arena (open for the tasks; a room is
+  // built when arena.room is set); forgets drones and contacts
   void build(const DroneTaskSettings& settings);
   // adds a drone; index = number of drones added before it since build(). The reference is valid
   // until the next add_drone() or build(); drone(i) stays valid.
