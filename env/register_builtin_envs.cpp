@@ -6,6 +6,9 @@
 #include "env/classic/cartpole.h"
 #include "env/classic/pendulum.h"
 #include "env/drone/hide_and_seek.h"
+#include "env/drone/eye.h"
+#include "env/drone/hummingbird.h"
+#include "env/drone/target_drone.h"
 #include "env/toy/duel.h"
 #include "env/toy/escape.h"
 #include "env/toy/hybrid_reach.h"
@@ -40,6 +43,10 @@ void register_builtin_envs() {
     add_env<Duel>("Duel");
     // the Bullet drone world
     add_env<HideAndSeek>("HideAndSeek");
+    // drone tasks (SPEC section 7): the paper's pre-experiments on the Bullet drone world
+    add_env<Hummingbird>("Hummingbird");
+    add_env<TargetDrone>("TargetDrone");
+    add_env<Eye>("Eye");
   });
 }
 

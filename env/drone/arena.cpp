@@ -53,7 +53,7 @@ float covered_fraction(const Opening& opening, const btCollisionObject& body, fl
 }
 
 Arena::Arena(BulletWorld& world, const ArenaParams& params) : world_(world), params_(params) {
-  const int n_open = open_openings_at_level(params_.level);
+  const int n_open = params_.room ? open_openings_at_level(params_.level) : 0;
   const float t = params_.wall_thickness;
   const float h = params_.half_size;
   const float ht = 0.5f * t;
@@ -71,6 +71,8 @@ Arena::Arena(BulletWorld& world, const ArenaParams& params) : world_(world), par
   world_.add_static_box(btVector3(0, wall_y, h + ht), wall_half_z, kWall);
   world_.add_static_box(btVector3(0, wall_y, -h - ht), wall_half_z, kWall);
   num_boxes_ = 6;
+
+  if (!params_.room) return;
 
   // the room: each side a full-height segment from each corner to its opening, then the pieces
   // around the opening, then a chunk if the level leaves it closed
@@ -123,6 +125,7 @@ int Arena::num_open() const {
 }
 
 bool Arena::inside_room(const btVector3& p) const {
+  if (!params_.room) return false;
   const float inner = params_.room_half - 0.5f * params_.wall_thickness;
   return std::abs(p.x()) < inner && std::abs(p.z()) < inner && p.y() > 0.0f &&
          p.y() < params_.height;

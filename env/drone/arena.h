@@ -12,6 +12,8 @@
 // window. An opening the level does not use is closed by a wall chunk that fills it exactly.
 // Levels: 1 opens opening 0; 2 opens 0 and 1; 3 opens 0, 1, 2; 4 opens all four.
 // Every static box is tagged kWall.
+// With `room` = false the arena is only floor, ceiling and boundary walls: no room boxes, no
+// openings (openings() is empty, inside_room() is always false); the drone tasks use this.
 #ifndef RLT_ENV_DRONE_ARENA_H_
 #define RLT_ENV_DRONE_ARENA_H_
 
@@ -34,6 +36,7 @@ struct ArenaParams {
   float window_width = 1.4f;    // window width (m)
   float window_height = 1.4f;   // window height (m)
   float window_sill = 2.2f;     // height of a window's bottom edge above the floor (m)
+  bool room = true;             // build the room; false: an open arena (level is then ignored)
 };
 
 inline constexpr int kMinLevel = 1;
@@ -63,7 +66,7 @@ float covered_fraction(const Opening& opening, const btCollisionObject& body, fl
 class Arena {
  public:
   // adds the static boxes to `world`; they live until the world is reset or destroyed.
-  // level must be in [1, 4] (throws std::invalid_argument otherwise)
+  // level must be in [1, 4] when `room` is set (throws std::invalid_argument otherwise)
   Arena(BulletWorld& world, const ArenaParams& params = {});
 
   const std::vector<Opening>& openings() const { return openings_; }

@@ -12,8 +12,8 @@ TEST(RegisterBuiltinEnvsTest, RegistersEveryEnvOnceUnderItsSpecName) {
   register_builtin_envs();
   register_builtin_envs();  // idempotent
   auto& registry = EnvRegistry::instance();
-  for (const char* name :
-       {"CartPole", "Pendulum", "HybridReach", "MaskedChoice", "Escape", "Pursuit", "Duel"}) {
+  for (const char* name : {"CartPole", "Pendulum", "HybridReach", "MaskedChoice", "Escape",
+                           "Pursuit", "Duel", "Hummingbird", "TargetDrone", "Eye"}) {
     ASSERT_TRUE(registry.contains(name)) << name;
     EXPECT_EQ(registry.make(name)->spec().name, name);
   }

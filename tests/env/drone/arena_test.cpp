@@ -182,5 +182,20 @@ TEST(ArenaTest, NoFlyingOverTheRoom) {
   EXPECT_LT(ray_fraction(world, btVector3(-8, y, 0.5f), btVector3(8, y, 0.5f)), 1.0f);
 }
 
+TEST(ArenaTest, WithoutARoomOnlyFloorCeilingAndBoundary) {
+  BulletWorld world;
+  ArenaParams params;
+  params.room = false;
+  params.level = 0;  // ignored without a room
+  params.half_size = 5.0f;
+  Arena arena(world, params);
+  EXPECT_EQ(arena.num_boxes(), 6);
+  EXPECT_EQ(world.num_bodies(), 6);
+  EXPECT_TRUE(arena.openings().empty());
+  EXPECT_FALSE(arena.inside_room(btVector3(0, 1, 0)));
+  EXPECT_TRUE(arena.inside_arena(btVector3(4.9f, 1, -4.9f)));
+  EXPECT_FALSE(arena.inside_arena(btVector3(5.1f, 1, 0)));
+}
+
 }  // namespace
 }  // namespace rlt::drone
