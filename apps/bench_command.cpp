@@ -1,5 +1,6 @@
 #include <chrono>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 #include "apps/command_line.h"
@@ -16,7 +17,9 @@ const char* const kBenchHelp = R"(Usage:
       trains CONFIG for N agent steps per behavior (default 100000) without writing a run folder
       and reports env_steps_per_s and agent_steps_per_s, end to end (acting, env, learning).
   rlt bench env ID [--frames N] [--num-envs N] [--threads T] [--param NAME=VALUE]... [--json]
-      steps N env steps (default 100000) with uniform random actions and reports env_steps_per_s.
+      runs N frames (default 100000) with uniform random actions and reports frames_per_s and
+      env_steps_per_s. A frame is a physics frame in the drone envs (a step is decision_period
+      frames: 3 by default), an env step elsewhere.
 )";
 
 namespace {
@@ -53,36 +56,40 @@ int bench_train(const CommandLine& cl) {
 
 int bench_env(const CommandLine& cl) {
   if (cl.positional().size() != 2) throw UsageError("expected: bench env ID");
-  Parameters params;
-  for (const auto& p : cl.values("--param")) {
-    const auto eq = p.find('=');
-    if (eq == std::string::npos) throw UsageError("--param expects NAME=VALUE, got '" + p + "'");
-    try {
-      params[p.substr(0, eq)] = std::stof(p.substr(eq + 1));
-    } catch (...) {
-      throw UsageError("--param " + p + ": value is not a number");
-    }
-  }
+  const Parameters params = cl.parameters();
   const int64_t frames = cl.integer("--frames", 100000, 1);
   const int num_envs = int(cl.integer("--num-envs", 1, 1));
   const int threads = int(cl.integer("--threads", 1, 1));
-  VectorEnv env(cl.positional()[1], num_envs, 0, {}, threads);
+  std::unique_ptr<VectorEnv> made;
+  try {
+    made = std::make_unique<VectorEnv>(cl.positional()[1], num_envs, 0, params, threads);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  VectorEnv& env = *made;
   env.set_parameters(params);
   std::vector<RandomPolicy> policies;
   for (int b = 0; b < env.num_behaviors(); ++b) policies.emplace_back(b + 1);
   env.reset();
+  // physics frames when the env counts them (drone envs: several per step), else env steps
+  const uint64_t frames0 = env.physics_frames();
   const auto start = std::chrono::steady_clock::now();
-  int64_t steps = 0;
-  while (steps < frames) {
+  int64_t steps = 0, counted = 0;
+  while (counted < frames) {
     for (int b = 0; b < env.num_behaviors(); ++b) policies[b].act(env.buffers(b));
     env.step();
     steps += num_envs;
+    const uint64_t physics = env.physics_frames() - frames0;
+    counted = physics > 0 ? int64_t(physics) : steps;
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (cl.has("--json"))
-    std::cout << "{\"env_steps_per_s\":" << json_number(steps / s) << ",\"seconds\":" << json_number(s) << "}\n";
+    std::cout << "{\"frames_per_s\":" << json_number(counted / s) << ",\"env_steps_per_s\":"
+              << json_number(steps / s) << ",\"frames\":" << counted << ",\"seconds\":"
+              << json_number(s) << "}\n";
   else
-    std::cout << steps << " env steps in " << s << " s: " << steps / s << " env steps/s\n";
+    std::cout << counted << " frames (" << steps << " env steps) in " << s << " s: " << counted / s
+              << " frames/s, " << steps / s << " env steps/s\n";
   return 0;
 }
 

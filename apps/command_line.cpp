@@ -60,4 +60,25 @@ long long CommandLine::integer(const std::string& flag, long long fallback, long
   return n;
 }
 
+Parameters CommandLine::parameters() const {
+  Parameters params;
+  for (const auto& p : values("--param")) {
+    const auto eq = p.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw UsageError("--param expects NAME=VALUE, got '" + p + "'");
+    const std::string value = p.substr(eq + 1);
+    size_t used = 0;
+    float v = 0;
+    try {
+      v = std::stof(value, &used);
+    } catch (...) {
+      used = 0;
+    }
+    if (used == 0 || used != value.size())
+      throw UsageError("--param " + p + ": value '" + value + "' is not a number");
+    params[p.substr(0, eq)] = v;
+  }
+  return params;
+}
+
 }  // namespace rlt

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "rl/env_api/spec.h"
+
 namespace rlt {
 
 class UsageError : public std::runtime_error {
@@ -25,6 +27,8 @@ class CommandLine {
   std::string value(const std::string& flag, const std::string& fallback = "") const;
   std::vector<std::string> values(const std::string& flag) const;
   long long integer(const std::string& flag, long long fallback, long long min_value) const;
+  // every --param NAME=VALUE (VALUE a number); a malformed one is a UsageError naming it
+  Parameters parameters() const;
 
  private:
   std::vector<std::string> positional_;

@@ -134,6 +134,7 @@ void DroneTask::step_frame() {
   world_.step_frame();
   contacts_.update(world_);
   ++frame_;
+  ++total_frames_;
 }
 
 void DroneTask::write_common(const DroneBody& d, float* out) const {

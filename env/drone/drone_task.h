@@ -97,6 +97,7 @@ class DroneTask {
   // one physics frame: world step, contacts updated, frame counter advanced
   void step_frame();
   int frame() const { return frame_; }  // frames since build()
+  uint64_t total_frames() const { return total_frames_; }  // frames since construction
   bool time_up() const { return frame_ >= settings_.episode_frames; }
 
   // writes kCommonObservationSize floats
@@ -124,6 +125,7 @@ class DroneTask {
   ContactTracker contacts_;
   RaySensor rays_;
   int frame_ = 0;
+  uint64_t total_frames_ = 0;
 };
 
 // clips to [-1, 1]

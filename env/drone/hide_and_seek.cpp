@@ -326,6 +326,7 @@ void HideAndSeek::build_episode() {
       const btCollisionObject* o = objects[i];
       RecordedBody body;
       body.kind = kind_name(drone::tag_of(*o));
+      body.dynamic = !o->isStaticObject();
       const btCollisionShape* shape = o->getCollisionShape();
       if (shape->getShapeType() == SPHERE_SHAPE_PROXYTYPE) {
         body.shape = "sphere";
@@ -463,6 +464,7 @@ void HideAndSeek::run_frame(StepView& io) {
   }
   world_->step_frame();
   ++frame_;
+  ++total_frames_;
   if (frame_ == prep_frames_) {
     // the prep phase ends: measure the fort, free the seekers
     closed_at_prep_end_ = count_closed();

@@ -115,6 +115,7 @@ class HideAndSeek : public Env {
   void step(StepView& io) override;
   EpisodeMetrics episode_metrics() const override;
   bool write_scripted_actions(int behavior, BehaviorView& view) override;
+  uint64_t physics_frames() const override { return total_frames_; }
   void set_recording(bool on) override { recording_on_ = on; }
   bool take_recording(EpisodeRecording& out) override;
 
@@ -172,6 +173,7 @@ class HideAndSeek : public Env {
   int num_agents_[2] = {2, 2};
   int level_ = 1;
   long frame_ = 0;
+  uint64_t total_frames_ = 0;  // since construction
   long prep_frames_ = 0;
   bool over_ = false;
   std::array<bool, drone::kNumOpenings> ever_closed_{};

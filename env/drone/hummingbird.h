@@ -63,6 +63,7 @@ class Hummingbird : public Env {
   void reset(StepView& out) override;
   void step(StepView& io) override;
   EpisodeMetrics episode_metrics() const override;
+  uint64_t physics_frames() const override { return task_.total_frames(); }
 
   // the current episode, for tests
   drone::DroneTask& task() { return task_; }

@@ -52,6 +52,7 @@ class TargetDrone : public Env {
   void reset(StepView& out) override;
   void step(StepView& io) override;
   EpisodeMetrics episode_metrics() const override;
+  uint64_t physics_frames() const override { return task_.total_frames(); }
 
   // the current episode, for tests
   drone::DroneTask& task() { return task_; }

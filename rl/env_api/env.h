@@ -45,6 +45,10 @@ class Env {
   // Metrics of the episode that just ended (called once all agents are kLast or kAbsent).
   virtual EpisodeMetrics episode_metrics() const { return {}; }
 
+  // Physics frames this instance has simulated since it was built, for envs whose step runs
+  // several frames of a physics engine (`rlt bench env` reports frames per second); 0 = not counted.
+  virtual uint64_t physics_frames() const { return 0; }
+
   // A hand-written policy for behavior `behavior` that may read the env's own state (a baseline
   // for `rlt eval --policy NAME=scripted`): writes the actions of every slot that needs one into
   // `view`. Returns false, writing nothing, when the env has none for that behavior.

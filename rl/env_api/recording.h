@@ -17,6 +17,7 @@ struct RecordedBody {
   std::string shape;              // "box" or "sphere"
   std::array<float, 3> size{};    // box: full extents (m); sphere: diameter in all three
   int agent_id = -1;              // the agent that flies it, or -1
+  bool dynamic = true;            // false for bodies that never move (walls): pose of frame 0
 };
 
 // something that happened in a frame; `body` and `other` index RecordedBody, -1 when unused

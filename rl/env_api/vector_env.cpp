@@ -100,6 +100,12 @@ bool VectorEnv::write_scripted_actions(int behavior) {
   return all;
 }
 
+uint64_t VectorEnv::physics_frames() const {
+  uint64_t n = 0;
+  for (const auto& env : envs_) n += env->physics_frames();
+  return n;
+}
+
 void VectorEnv::set_recording(bool on) {
   recording_ = on;
   for (auto& env : envs_) env->set_recording(on);

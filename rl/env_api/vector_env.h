@@ -48,6 +48,8 @@ class VectorEnv {
   // Writes the actions of every slot of `behavior` that needs one with the env's scripted policy
   // (Env::write_scripted_actions) in every instance; false when the env has none.
   bool write_scripted_actions(int behavior);
+  // Sum of Env::physics_frames() over the instances.
+  uint64_t physics_frames() const;
   // Records every episode from now on (Env::set_recording); finished episodes carry it.
   void set_recording(bool on);
 

@@ -1,5 +1,7 @@
 #include "rl/trainer/behavior_policy.h"
 
+#include <stdexcept>
+
 #include <cstring>
 #include <sstream>
 
@@ -68,6 +70,32 @@ void RandomPolicy::act(BehaviorBuffers& buf, const std::vector<uint8_t>* only) {
       offset += n;
     }
   }
+}
+
+void StillPolicy::act(BehaviorBuffers& buf, const std::vector<uint8_t>* only) {
+  const auto& a = buf.spec.action;
+  const int m = a.mask_size(), c = a.continuous_size, k = a.num_branches();
+  for (int r = 0; r < buf.rows; ++r) {
+    if (!needs_action(buf.step_type[r]) || (only && !(*only)[r])) continue;
+    for (int j = 0; j < c; ++j) buf.continuous_actions[size_t(r) * c + j] = 0.0f;
+    int offset = 0;
+    for (int j = 0; j < k; ++j) {
+      const int n = a.discrete_branches[j];
+      const uint8_t* allowed = buf.action_mask.data() + size_t(r) * m + offset;
+      int choice = 0;
+      while (choice < n - 1 && !allowed[choice]) ++choice;
+      buf.discrete_actions[size_t(r) * k + j] = choice;
+      offset += n;
+    }
+  }
+}
+
+void ScriptedPolicy::act(BehaviorBuffers& /*buf*/, const std::vector<uint8_t>* rows) {
+  if (rows != nullptr)
+    throw std::invalid_argument("ScriptedPolicy: acting for a subset of rows is not supported");
+  if (!env_.write_scripted_actions(behavior_))
+    throw std::invalid_argument("env " + env_.spec().name + " has no scripted policy for behavior " +
+                                env_.spec().behaviors[behavior_].name);
 }
 
 }  // namespace rlt

@@ -10,6 +10,7 @@
 
 #include "rl/core/fast_actor.h"
 #include "rl/env_api/step_buffers.h"
+#include "rl/env_api/vector_env.h"
 
 namespace rlt {
 
@@ -46,6 +47,25 @@ class RandomPolicy : public BehaviorPolicy {
 
  private:
   std::mt19937_64 rng_;
+};
+
+// Does nothing: continuous actions 0 and, on each branch, the first option the mask allows.
+class StillPolicy : public BehaviorPolicy {
+ public:
+  void act(BehaviorBuffers& buf, const std::vector<uint8_t>* rows = nullptr) override;
+};
+
+// The env's own hand-written policy (Env::write_scripted_actions) for behavior `behavior` of `env`;
+// it acts for every row (the `rows` filter is not supported). Throws std::invalid_argument naming
+// the env and behavior when the env has none.
+class ScriptedPolicy : public BehaviorPolicy {
+ public:
+  ScriptedPolicy(VectorEnv& env, int behavior) : env_(env), behavior_(behavior) {}
+  void act(BehaviorBuffers& buf, const std::vector<uint8_t>* rows = nullptr) override;
+
+ private:
+  VectorEnv& env_;
+  int behavior_;
 };
 
 }  // namespace rlt

@@ -42,6 +42,7 @@ Evaluation evaluate(VectorEnv& env, std::vector<std::unique_ptr<BehaviorPolicy>>
       if (ev.episodes >= episodes) continue;
       ++ev.episodes;
       for (const auto& [k, v] : f.metrics) sums[k] += v;
+      if (f.recording) ev.recordings.push_back(f.recording);
       for (const auto& [b, rl] : finished) {
         ev.behaviors[b].returns.push_back(rl.first);
         ev.behaviors[b].lengths.push_back(rl.second);

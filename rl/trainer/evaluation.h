@@ -21,6 +21,7 @@ struct Evaluation {
   int episodes = 0;                          // env episodes counted
   std::vector<BehaviorEvaluation> behaviors; // in env spec order
   std::map<std::string, double> metrics;     // mean of each episode metric over the episodes
+  std::vector<std::shared_ptr<EpisodeRecording>> recordings;  // of the counted episodes, if on
 };
 
 // Plays `episodes` env episodes on `env` (already configured) with one policy per behavior.
