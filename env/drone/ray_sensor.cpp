@@ -1,5 +1,7 @@
 #include "env/drone/ray_sensor.h"
 
+#include "env/drone/sphere_cast.h"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -36,6 +38,10 @@ RaySensor::RaySensor(const RaySensorParams& params)
     angles_.push_back(90.0f - (k + 1) * delta);
     angles_.push_back(90.0f + (k + 1) * delta);
   }
+  for (float degrees : angles_) {
+    cos_.push_back(std::cos(degrees * kDegrees));
+    sin_.push_back(std::sin(degrees * kDegrees));
+  }
 }
 
 btVector3 RaySensor::direction(const btTransform& pose, int i) const {
@@ -43,12 +49,41 @@ btVector3 RaySensor::direction(const btTransform& pose, int i) const {
   forward.setY(0);
   forward.normalize();
   const btVector3 right = forward.cross(btVector3(0, 1, 0));
-  const float theta = angles_[i] * kDegrees;
-  return std::cos(theta) * right + std::sin(theta) * forward;
+  return cos_[i] * right + sin_[i] * forward;
+}
+
+void RaySensor::observe(const ShapeSnapshot& scene, const btCollisionObject& self,
+                        float* out) const {
+  const btTransform& pose = self.getWorldTransform();
+  const btVector3 origin = pose.getOrigin();
+  btVector3 forward = pose.getBasis() * btVector3(0, 0, 1);
+  forward.setY(0);
+  forward.normalize();
+  const btVector3 right = forward.cross(btVector3(0, 1, 0));
+  for (int i = 0; i < num_rays(); ++i) {
+    float* ray = out + i * kFloatsPerRay;
+    const btVector3 end = origin + params_.ray_length * (cos_[i] * right + sin_[i] * forward);
+    const CastHit hit = first_hit(scene, origin, end, params_.sphere_radius, &self);
+    for (int t = 0; t < kFloatsPerRay; ++t) ray[t] = 0.0f;
+    if (hit.hit()) {
+      if (hit.tag >= 0 && hit.tag < kNumTags) ray[hit.tag] = 1.0f;
+      ray[kNumTags + 1] = hit.fraction;
+    } else {
+      ray[kNumTags] = 1.0f;
+      ray[kNumTags + 1] = 1.0f;
+    }
+  }
 }
 
 void RaySensor::observe(const btCollisionWorld& world, const btCollisionObject& self,
                         float* out) const {
+  thread_local ShapeSnapshot scene;
+  scene.capture(world);
+  observe(scene, self, out);
+}
+
+void RaySensor::observe_with_bullet_sweeps(const btCollisionWorld& world,
+                                           const btCollisionObject& self, float* out) const {
   const btTransform& pose = self.getWorldTransform();
   const btVector3 origin = pose.getOrigin();
   for (int i = 0; i < num_rays(); ++i) {
