@@ -60,10 +60,14 @@ void RaySensor::observe(const ShapeSnapshot& scene, const btCollisionObject& sel
   forward.setY(0);
   forward.normalize();
   const btVector3 right = forward.cross(btVector3(0, 1, 0));
+  btVector3 directions[kMaxFanRays];
+  for (int i = 0; i < num_rays(); ++i) directions[i] = cos_[i] * right + sin_[i] * forward;
+  CastHit hits[kMaxFanRays];
+  first_hits(scene, origin, directions, num_rays(), params_.ray_length, params_.sphere_radius,
+             &self, hits);
   for (int i = 0; i < num_rays(); ++i) {
     float* ray = out + i * kFloatsPerRay;
-    const btVector3 end = origin + params_.ray_length * (cos_[i] * right + sin_[i] * forward);
-    const CastHit hit = first_hit(scene, origin, end, params_.sphere_radius, &self);
+    const CastHit& hit = hits[i];
     for (int t = 0; t < kFloatsPerRay; ++t) ray[t] = 0.0f;
     if (hit.hit()) {
       if (hit.tag >= 0 && hit.tag < kNumTags) ray[hit.tag] = 1.0f;

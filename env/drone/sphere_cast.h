@@ -72,6 +72,14 @@ struct CastHit {
 CastHit first_hit(const ShapeSnapshot& scene, const btVector3& from, const btVector3& to,
                   float radius, const btCollisionObject* ignore);
 
+// first_hit for a fan of num_rays (<= kMaxFanRays) casts from one point: ray r goes from `from`
+// to from + length * directions[r] (unit vectors) and its answer is written to hits[r]. The same
+// answers as first_hit, cheaper: the per-primitive work is shared by the rays.
+inline constexpr int kMaxFanRays = 128;
+void first_hits(const ShapeSnapshot& scene, const btVector3& from, const btVector3* directions,
+                int num_rays, float length, float radius, const btCollisionObject* ignore,
+                CastHit* hits);
+
 }  // namespace rlt::drone
 
 #endif  // RLT_ENV_DRONE_SPHERE_CAST_H_
