@@ -1,9 +1,9 @@
 #include "env/drone/ray_sensor.h"
 
-#include "env/drone/sphere_cast.h"
-
 #include <cmath>
 #include <stdexcept>
+
+#include "env/drone/sphere_cast.h"
 
 namespace rlt::drone {
 

@@ -13,10 +13,9 @@
 // both point straight back.
 // Each ray sweeps a sphere of radius sphere_radius from the centre over ray_length metres and keeps
 // the closest hit, ignoring `self`. A body that already touches the sphere at the start is reported
-// at fraction 0 if the ray points into it and missed otherwise (Bullet's btContinuousConvexCollision
-// rule, see sphere_cast.h); around a drone of radius 0.35 m nothing touches a 0.3 m sphere unless
-// bodies interpenetrate.
-// Two implementations with the same output:
+// at fraction 0 if the ray points into it and missed otherwise (Bullet's
+// btContinuousConvexCollision rule, see sphere_cast.h); around a drone of radius 0.35 m nothing
+// touches a 0.3 m sphere unless bodies interpenetrate. Two implementations with the same output:
 //   observe(ShapeSnapshot, ...): analytic casts against a snapshot of the world (shape_snapshot.h,
 //     sphere_cast.h); boxes are Bullet's boxes, edges rounded by their collision margin as Bullet's
 //     GJK sees them (0.04 m; a tenth of the smallest half extent for thinner boxes, 0.01 m for the
@@ -86,7 +85,7 @@ class RaySensor {
 
  private:
   RaySensorParams params_;
-  std::vector<float> angles_;  // [num_rays] degrees
+  std::vector<float> angles_;     // [num_rays] degrees
   std::vector<float> cos_, sin_;  // [num_rays] cos and sin of the angles
   btSphereShape sphere_;
 };

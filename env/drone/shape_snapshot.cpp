@@ -7,8 +7,8 @@ namespace rlt::drone {
 
 void BoxArrays::clear() {
   for (std::vector<float>* v :
-       {&centre_x, &centre_y, &centre_z, &axis0_x, &axis0_y, &axis0_z, &axis1_x, &axis1_y,
-        &axis1_z, &axis2_x, &axis2_y, &axis2_z, &half_x, &half_y, &half_z, &rounding, &bound}) {
+       {&centre_x, &centre_y, &centre_z, &axis0_x, &axis0_y, &axis0_z, &axis1_x, &axis1_y, &axis1_z,
+        &axis2_x, &axis2_y, &axis2_z, &half_x, &half_y, &half_z, &rounding, &bound}) {
     v->clear();
   }
   tag.clear();

@@ -38,10 +38,10 @@ struct BoxArrays {
   std::vector<float> axis0_x, axis0_y, axis0_z;
   std::vector<float> axis1_x, axis1_y, axis1_z;
   std::vector<float> axis2_x, axis2_y, axis2_z;
-  std::vector<float> half_x, half_y, half_z;  // [n] half extents with margin (m)
-  std::vector<float> rounding;                // [n] Bullet margin: edge and corner radius (m)
-  std::vector<float> bound;                   // [n] bounding sphere radius about the centre (m)
-  std::vector<int> tag;                       // [n] Tag
+  std::vector<float> half_x, half_y, half_z;     // [n] half extents with margin (m)
+  std::vector<float> rounding;                   // [n] Bullet margin: edge and corner radius (m)
+  std::vector<float> bound;                      // [n] bounding sphere radius about the centre (m)
+  std::vector<int> tag;                          // [n] Tag
   std::vector<const btCollisionObject*> object;  // [n] source object
 
   int size() const { return static_cast<int>(tag.size()); }

@@ -1,6 +1,6 @@
 // Sphere casts without Bullet: the exact first contact of a sphere of radius r moving in a straight
-// line from `from` to `to` with an oriented box, a sphere, or a whole ShapeSnapshot. r = 0 is a thin
-// ray. Units are metres; results are fractions of the segment from -> to, in [0, 1].
+// line from `from` to `to` with an oriented box, a sphere, or a whole ShapeSnapshot. r = 0 is a
+// thin ray. Units are metres; results are fractions of the segment from -> to, in [0, 1].
 //
 // Geometry: the moving sphere touches a shape exactly when its centre is inside the shape grown by
 // r (the Minkowski sum). For a sphere of radius R that is a sphere of radius R + r. For a box of
@@ -19,8 +19,8 @@
 // centre, or, with the centre inside the core, the normal of the nearest face) and nothing at all
 // otherwise (a sphere leaving an overlap does not see that shape). A segment of zero length hits
 // nothing.
-// Ties between shapes at the same fraction go to the first in snapshot order (spheres before boxes);
-// Bullet's order there depends on its broadphase.
+// Ties between shapes at the same fraction go to the first in snapshot order (spheres before
+// boxes); Bullet's order there depends on its broadphase.
 #ifndef RLT_ENV_DRONE_SPHERE_CAST_H_
 #define RLT_ENV_DRONE_SPHERE_CAST_H_
 
@@ -60,9 +60,9 @@ float sweep_sphere_aligned_box(const float origin[3], const float delta[3], cons
 struct CastHit {
   enum Kind { kNone, kBox, kSphere };
   Kind kind = kNone;
-  int index = -1;       // into scene.boxes() or scene.spheres(), by kind
-  float fraction = 1;   // in [0, 1]; 1 on a miss
-  int tag = -1;         // Tag of the object hit, -1 on a miss
+  int index = -1;      // into scene.boxes() or scene.spheres(), by kind
+  float fraction = 1;  // in [0, 1]; 1 on a miss
+  int tag = -1;        // Tag of the object hit, -1 on a miss
   const btCollisionObject* object = nullptr;
   bool hit() const { return kind != kNone; }
 };

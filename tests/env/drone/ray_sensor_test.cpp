@@ -62,8 +62,8 @@ class RaySensorTest : public ::testing::TestWithParam<Path> {
   }
 };
 
-INSTANTIATE_TEST_SUITE_P(BothPaths, RaySensorTest, ::testing::Values(Path::kSnapshot, Path::kBullet),
-                         [](const auto& info) {
+INSTANTIATE_TEST_SUITE_P(BothPaths, RaySensorTest,
+                         ::testing::Values(Path::kSnapshot, Path::kBullet), [](const auto& info) {
                            return info.param == Path::kSnapshot ? "Snapshot" : "Bullet";
                          });
 
@@ -174,7 +174,8 @@ void add_random_scene(BulletWorld& world, std::mt19937& rng) {
   for (int i = 0; i < boxes; ++i) {
     DynamicBodyDesc desc;
     desc.position = position();
-    desc.rotation = btQuaternion(btVector3(uni(rng), uni(rng), uni(rng)).normalized(), 3.2f * uni(rng));
+    desc.rotation =
+        btQuaternion(btVector3(uni(rng), uni(rng), uni(rng)).normalized(), 3.2f * uni(rng));
     desc.tag = static_cast<Tag>(tag(rng));
     world.add_dynamic_body(std::make_unique<btBoxShape>(btVector3(size(), size(), size())), desc);
   }
@@ -224,7 +225,8 @@ TEST(RaySensorAgreementTest, SnapshotMatchesBulletSweepsOnRandomScenes) {
       hits += !e.miss();
       in_contact += !e.miss() && e.fraction() == 0.0f;
       const btVector3 from = caster->getWorldTransform().getOrigin();
-      const btVector3 to = from + params.ray_length * sensor.direction(caster->getWorldTransform(), i);
+      const btVector3 to =
+          from + params.ray_length * sensor.direction(caster->getWorldTransform(), i);
       const bool agree = e.miss() == b.miss() && e.tag() == b.tag() &&
                          std::fabs(e.fraction() - b.fraction()) <= 1e-3f;
       if (agree) {
@@ -251,21 +253,22 @@ TEST(RaySensorAgreementTest, SnapshotMatchesBulletSweepsOnRandomScenes) {
       for (const btVector3& tilt : tilts) {
         const btVector3 tilted = from + params.ray_length * (dir + 0.02f * tilt).normalized();
         const CastHit h = first_hit(bullet_tag_only, from, tilted, params.sphere_radius, caster);
-        if (!b.miss() && b.fraction() == 0.0f && h.hit() && h.fraction == 0.0f && h.tag == b.tag()) {
+        if (!b.miss() && b.fraction() == 0.0f && h.hit() && h.fraction == 0.0f &&
+            h.tag == b.tag()) {
           tangent_contact = true;
         }
       }
       grazes += graze;
       tangent_contacts += tangent_contact;
       EXPECT_TRUE(graze || tangent_contact)
-          << "scene " << scene_index << " ray " << i << ": snapshot tag " << e.tag()
-          << " fraction " << e.fraction() << ", Bullet tag " << b.tag() << " fraction "
-          << b.fraction();
+          << "scene " << scene_index << " ray " << i << ": snapshot tag " << e.tag() << " fraction "
+          << e.fraction() << ", Bullet tag " << b.tag() << " fraction " << b.fraction();
     }
   }
-  std::printf("agreement: %d rays, %d hits (%d in contact at the start); disagreements: %d grazes, "
-              "%d tangent contacts; otherwise hits within %.3g m\n",
-              rays, hits, in_contact, grazes, tangent_contacts, worst);
+  std::printf(
+      "agreement: %d rays, %d hits (%d in contact at the start); disagreements: %d grazes, "
+      "%d tangent contacts; otherwise hits within %.3g m\n",
+      rays, hits, in_contact, grazes, tangent_contacts, worst);
   EXPECT_GT(hits, rays / 4);
   EXPECT_GT(in_contact, 50);
   EXPECT_LE(grazes + tangent_contacts, rays / 100);

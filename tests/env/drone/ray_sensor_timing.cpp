@@ -86,15 +86,16 @@ int main(int argc, char** argv) {
       }
     }
   }
-  std::printf("scene: %d collision objects (%d boxes, %d spheres), %d frames x %d reps x %zu drones\n",
-              scene.size(), scene.boxes().size(), scene.spheres().size(), frames, reps,
-              drones.size());
+  std::printf(
+      "scene: %d collision objects (%d boxes, %d spheres), %d frames x %d reps x %zu drones\n",
+      scene.size(), scene.boxes().size(), scene.spheres().size(), frames, reps, drones.size());
   std::printf("bullet sweeps: %.2f us per observation of %d rays\n", bullet_us / observations,
               sensor.num_rays());
-  std::printf("snapshot:      %.2f us per observation (%.2f us casting + %.2f us capture per "
-              "frame shared by %zu drones)\n",
-              (snapshot_us + capture_us) / observations, snapshot_us / observations,
-              capture_us * drones.size() / observations, drones.size());
+  std::printf(
+      "snapshot:      %.2f us per observation (%.2f us casting + %.2f us capture per "
+      "frame shared by %zu drones)\n",
+      (snapshot_us + capture_us) / observations, snapshot_us / observations,
+      capture_us * drones.size() / observations, drones.size());
   std::printf("rays: %ld, hits %ld, disagreements (tag, miss or fraction > 1e-3) %ld\n", rays, hits,
               disagreements);
   return 0;

@@ -38,7 +38,8 @@ TEST(SphereCastTest, FaceAtKnownDistance) {
   // anywhere over the face (|x|, |y| <= 1) gives the same answer
   EXPECT_NEAR(cast_z(box, 0.9f, -0.95f, 0.5f), 8.5f / 20, 1e-6f);
   // a box turned 90 degrees about y is the same box
-  const OrientedBox turned = cube_at(btVector3(0, 0, 10), btQuaternion(btVector3(0, 1, 0), 1.5707963f));
+  const OrientedBox turned =
+      cube_at(btVector3(0, 0, 10), btQuaternion(btVector3(0, 1, 0), 1.5707963f));
   EXPECT_NEAR(cast_z(turned, 0.3f, 0.2f, 0.5f), 8.5f / 20, 1e-5f);
   // too short a segment: no hit
   EXPECT_EQ(sweep_sphere_box(btVector3(0, 0, 0), btVector3(0, 0, 8), 0.5f, box), kNoHit);
@@ -103,8 +104,8 @@ TEST(SphereCastTest, SphereAgainstSphere) {
                                 btVector3(0, 0, 10), 1.0f),
             kNoHit);
   // behind the caster: no hit
-  EXPECT_EQ(sweep_sphere_sphere(btVector3(0, 0, 12), btVector3(0, 0, 20), 0.5f,
-                                btVector3(0, 0, 10), 1.0f),
+  EXPECT_EQ(sweep_sphere_sphere(btVector3(0, 0, 12), btVector3(0, 0, 20), 0.5f, btVector3(0, 0, 10),
+                                1.0f),
             kNoHit);
 }
 
@@ -131,12 +132,12 @@ TEST(SphereCastTest, StartingInContactHitsAtZeroOnlyWhenMovingIn) {
   EXPECT_EQ(sweep_sphere_box(btVector3(0, 0, 10.8f), btVector3(0, 0, 20), 0.5f, box), kNoHit);
   EXPECT_EQ(sweep_sphere_box(btVector3(0, 0, 10.8f), btVector3(0, 0, 0), 0.5f, box), 0.0f);
   // spheres: towards the centre hits at 0, away misses
-  EXPECT_EQ(sweep_sphere_sphere(btVector3(0, 0, 9), btVector3(0, 0, 20), 0.5f, btVector3(0, 0, 10),
-                                1.0f),
-            0.0f);
-  EXPECT_EQ(sweep_sphere_sphere(btVector3(0, 0, 9), btVector3(0, 0, 0), 0.5f, btVector3(0, 0, 10),
-                                1.0f),
-            kNoHit);
+  EXPECT_EQ(
+      sweep_sphere_sphere(btVector3(0, 0, 9), btVector3(0, 0, 20), 0.5f, btVector3(0, 0, 10), 1.0f),
+      0.0f);
+  EXPECT_EQ(
+      sweep_sphere_sphere(btVector3(0, 0, 9), btVector3(0, 0, 0), 0.5f, btVector3(0, 0, 10), 1.0f),
+      kNoHit);
 }
 
 // naive reference: the first t in [0, 1] with dist(o + t d, box) <= r, by golden-section search
@@ -154,14 +155,20 @@ float reference_aligned_box(const float o[3], const float d[3], const float h[3]
   double lo = 0, hi = 1;
   for (int it = 0; it < 200; ++it) {
     const double a = lo + (hi - lo) * 0.381966, b = hi - (hi - lo) * 0.381966;
-    if (gap(a) < gap(b)) hi = b; else lo = a;
+    if (gap(a) < gap(b))
+      hi = b;
+    else
+      lo = a;
   }
   double t_min = 0.5 * (lo + hi);
   if (gap(t_min) > 0) return kNoHit;
   lo = 0, hi = t_min;
   for (int it = 0; it < 100; ++it) {
     const double mid = 0.5 * (lo + hi);
-    if (gap(mid) <= 0) hi = mid; else lo = mid;
+    if (gap(mid) <= 0)
+      hi = mid;
+    else
+      lo = mid;
   }
   return static_cast<float>(hi);
 }
