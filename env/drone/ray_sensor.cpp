@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "env/drone/sphere_cast.h"
+
 namespace rlt::drone {
 
 namespace {
@@ -36,6 +38,10 @@ RaySensor::RaySensor(const RaySensorParams& params)
     angles_.push_back(90.0f - (k + 1) * delta);
     angles_.push_back(90.0f + (k + 1) * delta);
   }
+  for (float degrees : angles_) {
+    cos_.push_back(std::cos(degrees * kDegrees));
+    sin_.push_back(std::sin(degrees * kDegrees));
+  }
 }
 
 btVector3 RaySensor::direction(const btTransform& pose, int i) const {
@@ -43,12 +49,45 @@ btVector3 RaySensor::direction(const btTransform& pose, int i) const {
   forward.setY(0);
   forward.normalize();
   const btVector3 right = forward.cross(btVector3(0, 1, 0));
-  const float theta = angles_[i] * kDegrees;
-  return std::cos(theta) * right + std::sin(theta) * forward;
+  return cos_[i] * right + sin_[i] * forward;
+}
+
+void RaySensor::observe(const ShapeSnapshot& scene, const btCollisionObject& self,
+                        float* out) const {
+  const btTransform& pose = self.getWorldTransform();
+  const btVector3 origin = pose.getOrigin();
+  btVector3 forward = pose.getBasis() * btVector3(0, 0, 1);
+  forward.setY(0);
+  forward.normalize();
+  const btVector3 right = forward.cross(btVector3(0, 1, 0));
+  btVector3 directions[kMaxFanRays];
+  for (int i = 0; i < num_rays(); ++i) directions[i] = cos_[i] * right + sin_[i] * forward;
+  CastHit hits[kMaxFanRays];
+  first_hits(scene, origin, directions, num_rays(), params_.ray_length, params_.sphere_radius,
+             &self, hits);
+  for (int i = 0; i < num_rays(); ++i) {
+    float* ray = out + i * kFloatsPerRay;
+    const CastHit& hit = hits[i];
+    for (int t = 0; t < kFloatsPerRay; ++t) ray[t] = 0.0f;
+    if (hit.hit()) {
+      if (hit.tag >= 0 && hit.tag < kNumTags) ray[hit.tag] = 1.0f;
+      ray[kNumTags + 1] = hit.fraction;
+    } else {
+      ray[kNumTags] = 1.0f;
+      ray[kNumTags + 1] = 1.0f;
+    }
+  }
 }
 
 void RaySensor::observe(const btCollisionWorld& world, const btCollisionObject& self,
                         float* out) const {
+  thread_local ShapeSnapshot scene;
+  scene.capture(world);
+  observe(scene, self, out);
+}
+
+void RaySensor::observe_with_bullet_sweeps(const btCollisionWorld& world,
+                                           const btCollisionObject& self, float* out) const {
   const btTransform& pose = self.getWorldTransform();
   const btVector3 origin = pose.getOrigin();
   for (int i = 0; i < num_rays(); ++i) {
