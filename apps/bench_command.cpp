@@ -1,6 +1,8 @@
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <thread>
 #include <sstream>
 
 #include "apps/command_line.h"
@@ -19,7 +21,7 @@ const char* const kBenchHelp = R"(Usage:
   rlt bench env ID [--frames N] [--num-envs N] [--threads T] [--param NAME=VALUE]... [--json]
       runs N frames (default 100000) with uniform random actions and reports frames_per_s and
       env_steps_per_s. A frame is a physics frame in the drone envs (a step is decision_period
-      frames: 3 by default), an env step elsewhere.
+      frames: 3 by default), an env step elsewhere. --threads defaults to the number of cores.
 )";
 
 namespace {
@@ -59,7 +61,9 @@ int bench_env(const CommandLine& cl) {
   const Parameters params = cl.parameters();
   const int64_t frames = cl.integer("--frames", 100000, 1);
   const int num_envs = int(cl.integer("--num-envs", 1, 1));
-  const int threads = int(cl.integer("--threads", 1, 1));
+  // all cores by default, as training steps its envs
+  const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+  const int threads = int(cl.integer("--threads", std::min(cores, num_envs), 1));
   std::unique_ptr<VectorEnv> made;
   try {
     made = std::make_unique<VectorEnv>(cl.positional()[1], num_envs, 0, params, threads);
