@@ -30,7 +30,7 @@ int run_envs(const std::vector<std::string>& args) {
       std::cout << "}}\n";
       continue;
     }
-    std::cout << name << " (episode: " << spec.max_episode_steps << " decisions)\n";
+    std::cout << name << " (at most " << spec.max_episode_steps << " decisions)\n";
     for (const auto& b : spec.behaviors) {
       std::cout << "  behavior " << b.name << ", " << b.agent_slots << " agent slot(s)\n";
       for (const auto& o : b.observations) {

@@ -5,7 +5,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -278,6 +280,95 @@ TEST_F(RltCliTest, BenchTrainReportsRates) {
   ASSERT_TRUE(std::regex_search(r.out, m, std::regex("\"agent_steps_per_s\":" + number))) << r.out;
   EXPECT_GT(std::stod(m[1]), 0.0);
   EXPECT_TRUE(fs::is_empty(cwd)) << "a benchmark wrote a run folder";
+}
+
+// a number after "key": in a JSON line, or NaN
+double json_value(const std::string& text, const std::string& key) {
+  std::smatch m;
+  if (!std::regex_search(text, m, std::regex("\"" + key + R"(":(-?[0-9][0-9.eE+-]*))")))
+    return std::nan("");
+  return std::stod(m[1]);
+}
+
+// issue 4: the scripted policies prove the mechanics, through `rlt eval --env ... --json`
+TEST_F(RltCliTest, ScriptedHiderClosesTheDoorwayAtLevelOne) {
+  Result r = rlt("eval --env HideAndSeek --policy Hider=scripted --policy Seeker=still"
+                 " --param level=1 --episodes 20 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"policy\":\"scripted\""), std::string::npos) << r.out;
+  EXPECT_GE(json_value(r.out, "fort_rate"), 0.8) << r.out;
+  EXPECT_GE(json_value(r.out, "openings_closed"), 0.8) << r.out;
+}
+
+TEST_F(RltCliTest, ScriptedSeekerTagsAStillHider) {
+  Result r = rlt("eval --env HideAndSeek --policy Seeker=scripted --policy Hider=still"
+                 " --param level=1 --episodes 20 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_GE(json_value(r.out, "tag_rate"), 0.8) << r.out;
+  // and random seekers rarely do: the scripted result is the policy's, not the env's
+  Result control = rlt("eval --env HideAndSeek --policy Hider=still --param level=1"
+                       " --episodes 20 --json");
+  ASSERT_EQ(control.exit_code, 0) << control.err;
+  EXPECT_LT(json_value(control.out, "tag_rate"), 0.3) << control.out;
+}
+
+TEST_F(RltCliTest, EvalRecordsEpisodesAsJson) {
+  const fs::path file = root_ / "replay.json";
+  Result r = rlt("eval --env HideAndSeek --policy Hider=scripted --policy Seeker=scripted"
+                 " --param level=1 --param episode_frames=1500 --episodes 2 --num-envs 1 --record " +
+                 quote(file.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string text = read_file(file);
+  ASSERT_EQ(text.rfind("{\"format\":\"rlt-recording\",\"version\":1,\"episodes\":[", 0), 0u)
+      << text.substr(0, 200);
+  EXPECT_EQ(text.substr(text.size() - 3), "]}\n");
+  // two episodes, with bodies of every kind there is at level 1, and the hider's events
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n') > 1500, true);
+  size_t episodes = 0;
+  for (size_t at = 0; (at = text.find("\"env\":\"HideAndSeek\"", at)) != std::string::npos; ++at)
+    ++episodes;
+  EXPECT_EQ(episodes, 2u);
+  for (const char* kind : {"\"kind\":\"wall\"", "\"kind\":\"prop\"", "\"kind\":\"hider\"",
+                           "\"kind\":\"seeker\"", "\"type\":\"grab\"", "\"type\":\"lock\"",
+                           "\"type\":\"closed\"", "\"type\":\"prep_end\""})
+    EXPECT_NE(text.find(kind), std::string::npos) << kind;
+}
+
+TEST_F(RltCliTest, EvalNamesBadPoliciesAndParameters) {
+  Result r = rlt("eval --env HideAndSeek --policy Runner=random --episodes 1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("no behavior 'Runner'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Hider, Seeker"), std::string::npos) << r.err;
+  r = rlt("eval --env HideAndSeek --param levle=2 --episodes 1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("levle"), std::string::npos) << r.err;
+  r = rlt("eval --env HideAndSeek --param level=two --episodes 1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("level=two"), std::string::npos) << r.err;
+  r = rlt("eval --env CartPole --policy CartPole=scripted --episodes 1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("no scripted policy"), std::string::npos) << r.err;
+  r = rlt("eval --env NoSuchEnv --episodes 1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("NoSuchEnv"), std::string::npos) << r.err;
+}
+
+TEST_F(RltCliTest, EnvsListsTheDroneEnvs) {
+  Result r = rlt("envs");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* line : {"HideAndSeek", "behavior Hider, 2 agent slot(s)",
+                           "behavior Seeker, 4 agent slot(s)", "spatial_grid [6, 12, 5] grid",
+                           "Hummingbird", "TargetDrone", "Eye", "behavior Eye, 2 agent slot(s)"})
+    EXPECT_NE(r.out.find(line), std::string::npos) << line;
+}
+
+TEST_F(RltCliTest, BenchEnvReportsPhysicsFrames) {
+  Result r = rlt("bench env HideAndSeek --param level=4 --num-envs 2 --frames 3000 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_GT(json_value(r.out, "frames_per_s"), 0.0) << r.out;
+  // a step is 3 physics frames
+  EXPECT_NEAR(json_value(r.out, "frames_per_s") / json_value(r.out, "env_steps_per_s"), 3.0, 0.01)
+      << r.out;
 }
 
 }  // namespace
