@@ -158,7 +158,12 @@ TEST(ConformanceTest, EveryRegisteredBuiltinEnvConforms) {
   for (const auto& name : EnvRegistry::instance().names()) {
     if (name.rfind("Flawed", 0) == 0) continue;
     SCOPED_TRACE(name);
-    const auto violations = check_env_conformance(name);
+    // two whole episodes, but at most 1200 steps: the drone envs (episodes of up to thousands of
+    // decisions) run whole short episodes in their own tests
+    ConformanceOptions opts;
+    const int max_steps = EnvRegistry::instance().make(name)->spec().max_episode_steps;
+    opts.steps = std::min(2 * (max_steps + 1), 1200);
+    const auto violations = check_env_conformance(name, {}, opts);
     EXPECT_TRUE(violations.empty()) << joined(violations);
   }
 }
