@@ -16,6 +16,8 @@ Usage: rlt COMMAND [ARGS...]
 Commands:
   train CONFIG     train the behaviors of a YAML run configuration (ML-Agents schema)
   eval RUN_DIR     play episodes with a trained run and report returns and episode metrics
+  eval --env ID    play an env with random, still, scripted or trained policies per behavior
+                   (--policy Hider=scripted), optionally recording the episodes (--record FILE)
   export RUN_DIR   write each behavior's TorchScript policy to RUN_DIR/<Behavior>.pt
   envs             list the registered environments and their behavior specs
   bench            measure training or environment throughput
@@ -25,6 +27,7 @@ Run 'rlt COMMAND --help' for the options of a command.
 Quick start:
   rlt train configs/cartpole_ppo.yaml --run-id cartpole
   rlt eval results/cartpole --episodes 20 --json
+  rlt eval --env HideAndSeek --policy Hider=scripted --policy Seeker=still --param level=1
 )";
 
 }  // namespace

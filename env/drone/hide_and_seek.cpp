@@ -352,7 +352,7 @@ void HideAndSeek::reset(StepView& out) {
   recorded_objects_.clear();
   recorded_initial_.clear();
   build_episode();
-  points_.update(*world_);
+  update_sensor_scene();
   for (int t = 0; t < 2; ++t) {
     BehaviorView& view = out[t];
     for (int slot = 0; slot < view.slots(); ++slot) {
@@ -440,7 +440,7 @@ void HideAndSeek::tag(Agent& hider, StepView& io) {
   hv.reward(hider.slot) += s.tagged_reward;
   hv.terminated(hider.slot) = 1;
   hv.step_type(hider.slot) = StepType::kLast;
-  points_.update(*world_);
+  update_sensor_scene();
   write_observation(hv, hider);
   BehaviorView& sv = io[kSeeker];
   for (int slot = 0; slot < num_agents_[kSeeker]; ++slot)
@@ -568,7 +568,7 @@ void HideAndSeek::step(StepView& io) {
   }
   check_openings(io);
   if (s.reward_preset == 1 && !in_prep()) pay_baker_rewards(io);
-  points_.update(*world_);
+  update_sensor_scene();
 
   const bool truncated = !over_ && frame_ >= s.episode_frames;
   if (over_ || truncated) {
@@ -650,11 +650,16 @@ void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
   v[15] = seen ? clip1(rel.y() / s.vision_range) : 0.0f;
   v[16] = seen ? clip1(rel.dot(fwd) / s.vision_range) : 0.0f;
   v[17] = seen ? 1.0f : 0.0f;
-  rays_.observe(world_->world(), d.body(), view.observation(a.slot, 1));
+  rays_.observe(shapes_, d.body(), view.observation(a.slot, 1));
   const drone::GridSensor* grids[2] = {&spatial_grid_, &frontal_grid_};
   float* outs[2] = {view.observation(a.slot, 2), view.observation(a.slot, 3)};
   drone::GridSensor::observe_many(grids, outs, 2, points_, points_.body_index(d.body()),
                                   d.body().getWorldTransform());
+}
+
+void HideAndSeek::update_sensor_scene() {
+  points_.update(*world_);
+  shapes_.capture(world_->world());
 }
 
 void HideAndSeek::record_frame() {

@@ -81,6 +81,7 @@
 #include "env/drone/grid_sensor.h"
 #include "env/drone/prop.h"
 #include "env/drone/ray_sensor.h"
+#include "env/drone/shape_snapshot.h"
 #include "env/drone/surface_points.h"
 #include "rl/env_api/env.h"
 #include "rl/env_api/recording.h"
@@ -151,6 +152,8 @@ class HideAndSeek : public Env {
   void write_mask(BehaviorView& view, const Agent& agent) const;
   void end_episode(StepView& io, bool terminated);
   void record_frame();
+  // the sensors' copies of the world, refreshed once per step before observations are written
+  void update_sensor_scene();
   // an event for the recording: `body` did it to `other` (or to the thing numbered `index`)
   void record_event(const char* type, const btCollisionObject* body,
                     const btCollisionObject* other, int index = -1);
@@ -162,7 +165,8 @@ class HideAndSeek : public Env {
   drone::RaySensor rays_;
   drone::GridSensor spatial_grid_;
   drone::GridSensor frontal_grid_;
-  drone::SurfacePoints points_;
+  drone::SurfacePoints points_;   // for the grids, updated before observations are written
+  drone::ShapeSnapshot shapes_;   // for the rays, captured with points_
 
   std::unique_ptr<drone::BulletWorld> world_;
   std::unique_ptr<drone::Arena> arena_;
