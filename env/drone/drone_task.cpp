@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "rl/env_api/uniform_random.h"
 
@@ -22,8 +24,27 @@ struct OverlapCallback : btCollisionWorld::ContactResultCallback {
 
 }  // namespace
 
+namespace {
+std::string bad_parameter(const Env& env, const std::string& name, const std::string& what) {
+  return env.spec().name + ": parameter " + name + " = " + std::to_string(env.parameter(name)) +
+         " must be " + what;
+}
+}  // namespace
+
 int int_parameter(const Env& env, const std::string& name, int lo, int hi) {
-  return std::clamp(static_cast<int>(std::lround(env.parameter(name))), lo, hi);
+  const float v = env.parameter(name);
+  if (!(v >= lo && v <= hi) || v != std::floor(v))
+    throw std::invalid_argument(bad_parameter(
+        env, name, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]"));
+  return static_cast<int>(v);
+}
+
+float float_parameter(const Env& env, const std::string& name, float lo, float hi) {
+  const float v = env.parameter(name);
+  if (!(v >= lo && v <= hi))
+    throw std::invalid_argument(bad_parameter(
+        env, name, "in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]"));
+  return v;
 }
 
 Parameters drone_task_parameters(float episode_length, float arena_half_size, float arena_height) {
@@ -39,11 +60,11 @@ DroneTaskSettings read_drone_task_settings(const Env& env) {
   s.decision_period = int_parameter(env, "decision_period", 1, kMaxDecisionPeriod);
   s.episode_frames = int_parameter(env, "episode_length", s.decision_period, kMaxEpisodeFrames);
   s.arena.room = false;
-  s.arena.half_size = std::clamp(env.parameter("arena_half_size"), 2.f, 50.f);
-  s.arena.height = std::clamp(env.parameter("arena_height"), 2.f, 20.f);
-  s.drone.max_speed = std::max(env.parameter("drone_max_speed"), 0.1f);
-  s.drone.max_force = std::max(env.parameter("drone_max_force"), 0.f);
-  s.drone.max_yaw_rate = std::max(env.parameter("drone_max_yaw_rate"), 0.f);
+  s.arena.half_size = float_parameter(env, "arena_half_size", 2.f, 50.f);
+  s.arena.height = float_parameter(env, "arena_height", 2.f, 20.f);
+  s.drone.max_speed = float_parameter(env, "drone_max_speed", 0.1f);
+  s.drone.max_force = float_parameter(env, "drone_max_force", 0.f);
+  s.drone.max_yaw_rate = float_parameter(env, "drone_max_yaw_rate", 0.f);
   return s;
 }
 

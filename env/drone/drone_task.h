@@ -9,10 +9,10 @@
 // The tasks declare spec.max_episode_steps = kMaxEpisodeFrames, the most decisions any setting
 // allows (episode_length at its largest with decision_period 1).
 // Common parameters of every task (task-specific defaults, see drone_task_parameters()):
-//   episode_length      frames per episode, clamped to [decision_period, kMaxEpisodeFrames]
-//   decision_period     frames per decision, clamped to [1, kMaxDecisionPeriod] (default 3)
-//   arena_half_size     half the side of the square floor (m), clamped to [2, 50]
-//   arena_height        floor to ceiling (m), clamped to [2, 20]
+//   episode_length      frames per episode, in [decision_period, kMaxEpisodeFrames]
+//   decision_period     frames per decision, in [1, kMaxDecisionPeriod] (default 3)
+//   arena_half_size     half the side of the square floor (m), in [2, 50]
+//   arena_height        floor to ceiling (m), in [2, 20]
 //   drone_max_speed     speed cap of a drone (m/s, default 5)
 //   drone_max_force     thrust at action 1 (N, default 20)
 //   drone_max_yaw_rate  yaw rate at action 1 (rad/s, default 3)
@@ -33,6 +33,7 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
@@ -130,8 +131,11 @@ class DroneTask {
 
 // clips to [-1, 1]
 inline float clip1(double x) { return static_cast<float>(x < -1.0 ? -1.0 : x > 1.0 ? 1.0 : x); }
-// parameter `name` of `env` rounded and clamped to [lo, hi]
+// parameter `name` of `env`, which must be an integer in [lo, hi] (a number in [lo, hi]); anything
+// else throws std::invalid_argument naming the env, the parameter, its value and the range
 int int_parameter(const Env& env, const std::string& name, int lo, int hi);
+float float_parameter(const Env& env, const std::string& name, float lo,
+                      float hi = std::numeric_limits<float>::infinity());
 
 }  // namespace rlt::drone
 

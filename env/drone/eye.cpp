@@ -56,11 +56,11 @@ void Eye::reset(StepView& out) {
   view_reward_ = parameter("view_reward");
   wall_reward_ = parameter("wall_reward");
   ally_reward_ = parameter("ally_reward");
-  vision_cone_ = std::clamp(parameter("vision_cone"), 0.f, 360.f);
-  vision_range_ = std::max(parameter("vision_range"), 0.f);
+  vision_cone_ = drone::float_parameter(*this, "vision_cone", 0.f, 360.f);
+  vision_range_ = drone::float_parameter(*this, "vision_range", 0.f);
   const float height = settings.arena.height;
-  const float half = std::clamp(parameter("target_half_size"), 0.05f, 0.25f * height);
-  const float spawn_distance = std::max(parameter("spawn_distance"), 0.f);
+  const float half = drone::float_parameter(*this, "target_half_size", 0.05f, 0.25f * height);
+  const float spawn_distance = drone::float_parameter(*this, "spawn_distance", 0.f);
 
   // world, target, drones
   task_.build(settings);

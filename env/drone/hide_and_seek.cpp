@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "env/drone/drone_task.h"
 #include "env/drone/hide_and_seek_scripted.h"
 #include "env/drone/vision.h"
 #include "rl/env_api/uniform_random.h"
@@ -120,25 +121,6 @@ void HideAndSeek::seed(uint64_t seed) { engine_.seed(seed); }
 
 namespace {
 
-// an integer parameter in [low, high]
-int int_parameter(const Env& env, const char* name, int low, int high) {
-  const float v = env.parameter(name);
-  if (!(v >= low && v <= high) || v != std::floor(v))
-    throw std::invalid_argument("HideAndSeek: parameter " + std::string(name) + " = " +
-                                std::to_string(v) + " must be an integer in [" +
-                                std::to_string(low) + ", " + std::to_string(high) + "]");
-  return static_cast<int>(v);
-}
-
-float float_parameter(const Env& env, const char* name, float low, float high) {
-  const float v = env.parameter(name);
-  if (!(v >= low && v <= high))
-    throw std::invalid_argument("HideAndSeek: parameter " + std::string(name) + " = " +
-                                std::to_string(v) + " must be in [" + std::to_string(low) +
-                                ", " + std::to_string(high) + "]");
-  return v;
-}
-
 // where spawns may go: inside the room, outside it, or a band just outside it
 enum class Region { kRoom, kOutside, kNearOutside, kAnywhere };
 
@@ -200,23 +182,23 @@ class SpawnPlanner {
 
 void HideAndSeek::build_episode() {
   Settings& s = *settings_;
-  level_ = int_parameter(*this, "level", drone::kMinLevel, drone::kMaxLevel);
-  num_agents_[kHider] = int_parameter(*this, "num_hiders", 1, kMaxHiders);
-  num_agents_[kSeeker] = int_parameter(*this, "num_seekers", 1, kMaxSeekers);
-  s.decision_period = int_parameter(*this, "decision_period", 1, 10);
-  s.episode_frames = int_parameter(*this, "episode_frames", 30, kMaxEpisodeFrames);
-  s.prep_fraction = float_parameter(*this, "prep_fraction", 0.0f, 0.9f);
-  s.reward_preset = int_parameter(*this, "reward_preset", 0, 1);
+  level_ = drone::int_parameter(*this, "level", drone::kMinLevel, drone::kMaxLevel);
+  num_agents_[kHider] = drone::int_parameter(*this, "num_hiders", 1, kMaxHiders);
+  num_agents_[kSeeker] = drone::int_parameter(*this, "num_seekers", 1, kMaxSeekers);
+  s.decision_period = drone::int_parameter(*this, "decision_period", 1, drone::kMaxDecisionPeriod);
+  s.episode_frames = drone::int_parameter(*this, "episode_frames", 30, kMaxEpisodeFrames);
+  s.prep_fraction = drone::float_parameter(*this, "prep_fraction", 0.0f, 0.9f);
+  s.reward_preset = drone::int_parameter(*this, "reward_preset", 0, 1);
   s.hide_reward = level_ == 4 ? parameter("hide_reward_level4") : parameter("hide_reward");
   s.close_reward = parameter("close_reward");
   s.tagged_reward = parameter("tagged_reward");
   s.seen_reward = parameter("seen_reward");
-  s.assault_weighting = int_parameter(*this, "assault_weighting", 0, 1) == 1;
+  s.assault_weighting = drone::int_parameter(*this, "assault_weighting", 0, 1) == 1;
   s.tag_reward = parameter("tag_reward");
-  s.end_on_tag = int_parameter(*this, "end_on_tag", 0, 1) == 1;
-  s.tag_distance = float_parameter(*this, "tag_distance", 0.0f, 2.0f);
-  s.vision_range = float_parameter(*this, "vision_range", 0.1f, 100.0f);
-  s.vision_cone = float_parameter(*this, "vision_cone", 1.0f, 360.0f);
+  s.end_on_tag = drone::int_parameter(*this, "end_on_tag", 0, 1) == 1;
+  s.tag_distance = drone::float_parameter(*this, "tag_distance", 0.0f, 2.0f);
+  s.vision_range = drone::float_parameter(*this, "vision_range", 0.1f, 100.0f);
+  s.vision_cone = drone::float_parameter(*this, "vision_cone", 1.0f, 360.0f);
   for (const char* name : {"hide_reward", "hide_reward_level4", "close_reward", "tagged_reward",
                            "seen_reward", "tag_reward"}) {
     if (!std::isfinite(parameter(name)))
@@ -315,7 +297,6 @@ void HideAndSeek::build_episode() {
     body.setLinearFactor(prep ? btVector3(0, 0, 0) : btVector3(1, 1, 1));
     body.setAngularFactor(prep ? btVector3(0, 0, 0) : btVector3(0, 1, 0));
   }
-  if (!prep) closed_at_prep_end_ = 0;
 
   if (recording_on_) {
     recording_ = EpisodeRecording();

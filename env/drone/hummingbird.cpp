@@ -64,10 +64,10 @@ void Hummingbird::reset(StepView& out) {
   const int num_obstacles = drone::int_parameter(*this, "num_obstacles", 0, kMaxObstacles);
   const int capacity = drone::int_parameter(*this, "nectar_capacity", 0, drone::kMaxEpisodeFrames);
   const float half = settings.arena.half_size, height = settings.arena.height;
-  nectar_radius_ = std::clamp(parameter("nectar_radius"), 0.1f, 0.25f * height);
+  nectar_radius_ = drone::float_parameter(*this, "nectar_radius", 0.1f, 0.25f * height);
   nectar_reward_ = parameter("nectar_reward");
   collision_reward_ = parameter("collision_reward");
-  const float pillar = std::clamp(parameter("obstacle_half_size"), 0.05f, 2.f);
+  const float pillar = drone::float_parameter(*this, "obstacle_half_size", 0.05f, 2.f);
 
   // world, pillars
   task_.build(settings);

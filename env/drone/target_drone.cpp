@@ -70,10 +70,10 @@ void TargetDrone::reset(StepView& out) {
   collision_reward_ = parameter("collision_reward");
   const float height = settings.arena.height;
   drone::DroneParams target_params = settings.drone;
-  target_params.max_speed = std::max(parameter("target_speed"), 0.f);
-  target_params.radius = std::clamp(parameter("target_radius"), 0.05f, 0.25f * height);
-  const float spawn_distance = std::max(parameter("spawn_distance"), 0.f);
-  evade_distance_ = std::max(parameter("evade_distance"), 0.f);
+  target_params.max_speed = drone::float_parameter(*this, "target_speed", 0.f);
+  target_params.radius = drone::float_parameter(*this, "target_radius", 0.05f, 0.25f * height);
+  const float spawn_distance = drone::float_parameter(*this, "spawn_distance", 0.f);
+  evade_distance_ = drone::float_parameter(*this, "evade_distance", 0.f);
 
   // world; target start, first waypoint and chaser start are drawn first, then the chaser is
   // added as drone 0 and the target as drone 1

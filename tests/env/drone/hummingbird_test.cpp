@@ -66,6 +66,25 @@ TEST(HummingbirdTest, Conforms) {
   }
 }
 
+// a parameter out of its range is an error that names it, not a silent clamp (the shared
+// DroneTask checks cover Hummingbird, TargetDrone and Eye alike)
+TEST(HummingbirdTest, BadParametersAreNamed) {
+  for (const auto& [name, value] : std::vector<std::pair<std::string, float>>{
+           {"decision_period", 0.f}, {"episode_length", 2.5f}, {"arena_half_size", 100.f},
+           {"nectar_radius", -1.f}, {"num_nectar", 40.f}, {"drone_max_speed", NAN}}) {
+    Hummingbird env;
+    env.set_parameters({{name, value}});
+    SingleEnvHarness harness(env);
+    try {
+      harness.reset();
+      ADD_FAILURE() << name << " = " << value << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("Hummingbird: parameter " + name), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 TEST(HummingbirdTest, NectarPaysPerFrameInside) {
   Hummingbird env;
   env.seed(3);
