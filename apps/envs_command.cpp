@@ -10,7 +10,8 @@ namespace rlt {
 const char* const kEnvsHelp = R"(Usage: rlt envs [--json]
 
 Lists the registered environments: their behaviors (observation shapes, action spec, agent slots),
-episode length and parameters with defaults. --json prints one JSON object per environment.
+episode length, parameters with defaults and the strategies training watches for (the episode
+metric whose smoothed rate marks it, and whose steps date it). --json prints one JSON object per environment.
 )";
 
 int run_envs(const std::vector<std::string>& args) {
@@ -27,7 +28,12 @@ int run_envs(const std::vector<std::string>& args) {
       std::cout << "],\"parameters\":{";
       size_t i = 0;
       for (const auto& [k, v] : spec.default_parameters) std::cout << (i++ ? "," : "") << "\"" << k << "\":" << v;
-      std::cout << "}}\n";
+      std::cout << "},\"strategies\":[";
+      i = 0;
+      for (const auto& s : spec.strategies)
+        std::cout << (i++ ? "," : "") << "{\"name\":\"" << s.name << "\",\"metric\":\"" << s.metric
+                  << "\",\"behavior\":\"" << s.behavior << "\",\"threshold\":" << s.threshold << "}";
+      std::cout << "]}\n";
       continue;
     }
     std::cout << name << " (at most " << spec.max_episode_steps << " decisions)\n";
@@ -46,6 +52,12 @@ int run_envs(const std::vector<std::string>& args) {
     if (!spec.default_parameters.empty()) {
       std::cout << "  parameters:";
       for (const auto& [k, v] : spec.default_parameters) std::cout << " " << k << "=" << v;
+      std::cout << "\n";
+    }
+    for (const auto& s : spec.strategies) {
+      std::cout << "  strategy " << s.name << ": " << s.metric << " over the last " << s.window
+                << " episodes > " << s.threshold << ", dated in " << s.behavior << " steps";
+      if (!s.min_parameter.empty()) std::cout << ", episodes with " << s.min_parameter << " >= " << s.min_value;
       std::cout << "\n";
     }
   }

@@ -51,6 +51,7 @@ struct HideAndSeek::Settings {
   float close_reward = 0.1f;
   float tagged_reward = -1.0f;
   float seen_reward = 0.001f;
+  float unseen_reward = 0.0f;  // per seeker and test-phase frame in which no hider is seen
   bool assault_weighting = false;
   float tag_reward = 1.0f;
   bool end_on_tag = true;
@@ -103,10 +104,17 @@ HideAndSeek::HideAndSeek()
       {"reward_preset", 0.f},   {"hide_reward", 0.001f},
       {"hide_reward_level4", 0.0005f},
       {"close_reward", 0.1f},   {"tagged_reward", -1.f},
-      {"seen_reward", 0.001f},  {"assault_weighting", 0.f},
+      {"seen_reward", 0.001f},  {"unseen_reward", 0.f},
+      {"assault_weighting", 0.f},
       {"tag_reward", 1.f},      {"end_on_tag", 1.f},
       {"tag_distance", 0.1f},   {"vision_range", drone::kDefaultVisionRange},
       {"vision_cone", drone::kDefaultConeDegrees},
+  };
+  // SPEC section 8: chasing is dated in seeker steps, shelter in hider steps and only counts at
+  // level 2 and above (level 1's single doorway is the curriculum's first lesson)
+  spec_.strategies = {
+      {"running_and_chasing", "tag_rate", "Seeker", 0.5f, 100, "", 0.f},
+      {"shelter", "fort_rate", "Hider", 0.5f, 100, "level", 2.f},
   };
   world_ = std::make_unique<drone::BulletWorld>();
 }
@@ -193,6 +201,7 @@ void HideAndSeek::build_episode() {
   s.close_reward = parameter("close_reward");
   s.tagged_reward = parameter("tagged_reward");
   s.seen_reward = parameter("seen_reward");
+  s.unseen_reward = parameter("unseen_reward");
   s.assault_weighting = drone::int_parameter(*this, "assault_weighting", 0, 1) == 1;
   s.tag_reward = parameter("tag_reward");
   s.end_on_tag = drone::int_parameter(*this, "end_on_tag", 0, 1) == 1;
@@ -200,7 +209,7 @@ void HideAndSeek::build_episode() {
   s.vision_range = drone::float_parameter(*this, "vision_range", 0.1f, 100.0f);
   s.vision_cone = drone::float_parameter(*this, "vision_cone", 1.0f, 360.0f);
   for (const char* name : {"hide_reward", "hide_reward_level4", "close_reward", "tagged_reward",
-                           "seen_reward", "tag_reward"}) {
+                           "seen_reward", "unseen_reward", "tag_reward"}) {
     if (!std::isfinite(parameter(name)))
       throw std::invalid_argument("HideAndSeek: parameter " + std::string(name) +
                                   " must be finite");
@@ -500,6 +509,8 @@ void HideAndSeek::run_frame(StepView& io) {
     all_hidden = all_hidden && !seen;
     if (!seen && s.reward_preset == 0) io[kHider].reward(h) += s.hide_reward;
   }
+  if (!any_seen && !tagged_now && s.reward_preset == 0 && s.unseen_reward != 0.0f)
+    for (int k = 0; k < num_agents_[kSeeker]; ++k) io[kSeeker].reward(k) += s.unseen_reward;
   // a tag counts as seen (the tagged hider has just left)
   seen_frames_ += any_seen || tagged_now;
   hidden_frames_ += all_hidden && !tagged_now;

@@ -39,8 +39,9 @@
 //     becomes closed (every hider in the game gets it: the room is shared); + tagged_reward (-1)
 //     when tagged.
 //   seeker: reward + seen_reward (0.001) per test-phase frame per hider it sees, times the
-//     assault-horizon signal clipped to [0, 1] when `assault_weighting` = 1; group_reward +
-//     tag_reward (1) per tagged hider.
+//     assault-horizon signal clipped to [0, 1] when `assault_weighting` = 1; + unseen_reward (0;
+//     negative for the constant penalty of RQ3) per test-phase frame in which no seeker sees any
+//     hider; group_reward + tag_reward (1) per tagged hider.
 // `reward_preset` 1 = "baker" (OpenAI's zero-sum team reward): at the end of every test-phase
 //   decision each hider gets +1 when every hider is hidden, -1 otherwise, and each seeker gets the
 //   opposite as group_reward; no other reward, and nobody is tagged.

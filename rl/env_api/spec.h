@@ -52,11 +52,26 @@ struct BehaviorSpec {
   int agent_slots = 1;  // the most agents of this behavior alive at once in one env instance
 };
 
+// A behavior the env can recognise in its episode metrics (an emergent strategy, a skill). Training
+// follows the metric's mean over the last `window` qualifying episodes and records the first step
+// of `behavior` at which it exceeds `threshold`: the step the strategy emerged.
+struct StrategySpec {
+  std::string name;      // e.g. "running_and_chasing"
+  std::string metric;    // key of Env::episode_metrics(), a rate in [0, 1]
+  std::string behavior;  // whose steps date the emergence
+  float threshold = 0.5f;
+  int window = 100;      // episodes in the smoothed rate
+  // only episodes played with parameter `min_parameter` >= `min_value` count (empty: all)
+  std::string min_parameter;
+  float min_value = 0.f;
+};
+
 struct EnvSpec {
   std::string name;
   std::vector<BehaviorSpec> behaviors;
   int max_episode_steps = 0;     // decisions after which an episode is truncated
   Parameters default_parameters;  // every parameter the env understands, with its default
+  std::vector<StrategySpec> strategies;  // recognised in episode metrics (may be empty)
 
   // index of the behavior called `name`, or -1
   int behavior_index(const std::string& name) const {

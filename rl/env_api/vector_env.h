@@ -37,6 +37,11 @@ class VectorEnv {
   void set_parameters(const Parameters& params);
   void set_parameters(int env_index, const Parameters& params);
 
+  // The value of parameter `name` in instance `env_index` (of the episode running or just ended).
+  float parameter(int env_index, const std::string& name) const {
+    return envs_.at(env_index)->parameter(name);
+  }
+
   // Seeds env i with base_seed + i and starts an episode in every instance.
   void reset();
   // Seeds every instance again (env i: seed + i) and starts new episodes: used to restart from a

@@ -43,6 +43,16 @@ std::vector<int> PocaTrainer::groupmates(const BehaviorBuffers& buf, int row, Pr
   return out;
 }
 
+int64_t PocaTrainer::packed_others(const std::vector<float>& present, int64_t n) const {
+  int64_t used = 0;  // slots are packed (present first), so the count of the fullest row
+  for (int64_t i = 0; i < n; ++i) {
+    int64_t k = 0;
+    while (k < others_ && present[size_t(i) * others_ + k] != 0.f) ++k;
+    used = std::max(used, k);
+  }
+  return used;
+}
+
 void PocaTrainer::encode_action(const BehaviorBuffers& buf, int row, float* out) const {
   const auto& a = spec_.action;
   const int c = a.continuous_size, k = a.num_branches();
@@ -64,20 +74,20 @@ void PocaTrainer::on_acted(const BehaviorBuffers& buf, const std::vector<int>& r
     for (int m : mates)
       if (m >= 0) present_rows.push_back(m);
     gather_obs(buf, present_rows, mate_obs, "observation");
+    // present groupmates first, then the empty slots: the critic is invariant to the order of
+    // the members, and packed slots let it skip the slots no sample uses (packed_others)
     auto& t = trajectories_[r];
-    int next = 0;
-    for (int m : mates) {
-      if (m < 0) {
-        t.others_obs.insert(t.others_obs.end(), obs_size_, 0.f);
-        t.others_action.insert(t.others_action.end(), action_code_, 0.f);
-        t.others_present.push_back(0.f);
-        continue;
-      }
-      const float* o = mate_obs.data() + size_t(next++) * obs_size_;
+    for (size_t next = 0; next < present_rows.size(); ++next) {
+      const float* o = mate_obs.data() + next * obs_size_;
       t.others_obs.insert(t.others_obs.end(), o, o + obs_size_);
-      encode_action(buf, m, code.data());
+      encode_action(buf, present_rows[next], code.data());
       t.others_action.insert(t.others_action.end(), code.begin(), code.end());
       t.others_present.push_back(1.f);
+    }
+    for (size_t k = present_rows.size(); k < size_t(others_); ++k) {
+      t.others_obs.insert(t.others_obs.end(), obs_size_, 0.f);
+      t.others_action.insert(t.others_action.end(), action_code_, 0.f);
+      t.others_present.push_back(0.f);
     }
   }
 }
@@ -105,10 +115,13 @@ void PocaTrainer::finish(const BehaviorBuffers& buf, int row, bool terminal) {
   }
   torch::NoGradGuard no_grad;
   // group value and counterfactual baseline of every step
+  const int64_t used = packed_others(t.others_present, n);  // the slots after these are empty
   auto own = normalize(torch::from_blob(t.obs.data(), {n, obs_size_}));                  // [T, D]
-  auto others = normalize(torch::from_blob(t.others_obs.data(), {n, others_, obs_size_}));  // [T, O, D]
-  auto actions = torch::from_blob(t.others_action.data(), {n, others_, action_code_});    // [T, O, A]
-  auto present = torch::from_blob(t.others_present.data(), {n, others_});                 // [T, O]
+  auto others = normalize(torch::from_blob(t.others_obs.data(), {n, others_, obs_size_})
+                              .narrow(1, 0, used));                                          // [T, U, D]
+  auto actions = torch::from_blob(t.others_action.data(), {n, others_, action_code_})
+                     .narrow(1, 0, used);                                                    // [T, U, A]
+  auto present = torch::from_blob(t.others_present.data(), {n, others_}).narrow(1, 0, used);  // [T, U]
   auto all = torch::cat({own.unsqueeze(1), others}, 1);                                   // [T, N, D]
   auto all_present = torch::cat({torch::ones({n, 1}), present}, 1);                       // [T, N]
   auto values = critic_->value(all, all_present).contiguous();                            // [T]
@@ -120,17 +133,13 @@ void PocaTrainer::finish(const BehaviorBuffers& buf, int row, bool terminal) {
   float bootstrap = 0.f;
   if (!(terminal && group_done)) {
     std::vector<int> members = {row};
-    auto mates = groupmates(buf, row, [](StepType s) { return s != StepType::kAbsent; });
-    std::vector<float> flags(others_ + 1, 0.f);
-    flags[0] = 1.f;
-    for (int o = 0; o < others_; ++o) {
-      members.push_back(mates[o] >= 0 ? mates[o] : row);  // absent slots are masked out anyway
-      flags[o + 1] = mates[o] >= 0 ? 1.f : 0.f;
-    }
+    for (int m : groupmates(buf, row, [](StepType s) { return s != StepType::kAbsent; }))
+      if (m >= 0) members.push_back(m);
+    const int64_t count = int64_t(members.size());
     RowMatrix next;
     gather_obs(buf, members, next, "final observation");
-    auto next_obs = normalize(torch::from_blob(next.data(), {1, others_ + 1, obs_size_}));
-    bootstrap = critic_->value(next_obs, torch::from_blob(flags.data(), {1, others_ + 1})).item<float>();
+    auto next_obs = normalize(torch::from_blob(next.data(), {1, count, obs_size_}));  // [1, M, D]
+    bootstrap = critic_->value(next_obs, torch::ones({1, count})).item<float>();
   }
   t.value.assign(values.data_ptr<float>(), values.data_ptr<float>() + n);
   t.baseline.assign(baselines.data_ptr<float>(), baselines.data_ptr<float>() + n);
@@ -152,11 +161,17 @@ UpdateStats PocaTrainer::update() {
   stats.experiences = n;
   fill_schedules(stats);
 
-  // the buffer as tensors, observations normalized once
-  auto obs = normalize(torch::from_blob(buffer_.obs.data(), {n, obs_size_}));                 // [N, D]
-  auto others = normalize(torch::from_blob(buffer_.others_obs.data(), {n, others_, obs_size_}));  // [N, O, D]
-  auto actions = torch::from_blob(buffer_.others_action.data(), {n, others_, action_code_});  // [N, O, A]
-  auto present = torch::from_blob(buffer_.others_present.data(), {n, others_});                // [N, O]
+  // the buffer as tensors
+  // only the member slots some experience uses (U <= O; slots are packed, present first)
+  const int64_t used = packed_others(buffer_.others_present, n);
+  // observations are normalized per minibatch (a normalized copy of the buffer is hundreds of MB)
+  auto obs = torch::from_blob(buffer_.obs.data(), {n, obs_size_});                           // [N, D]
+  auto others = torch::from_blob(buffer_.others_obs.data(), {n, others_, obs_size_})
+                    .narrow(1, 0, used);                                                    // [N, U, D]
+  auto actions = torch::from_blob(buffer_.others_action.data(), {n, others_, action_code_})
+                     .narrow(1, 0, used);                                                   // [N, U, A]
+  auto present = torch::from_blob(buffer_.others_present.data(), {n, others_})
+                     .narrow(1, 0, used);                                                   // [N, U]
   auto cont = torch::from_blob(buffer_.continuous.data(), {n, s.continuous_size});             // [N, C]
   auto disc = torch::from_blob(buffer_.discrete.data(), {n, s.num_branches()}, torch::kInt64); // [N, K]
   auto mask = torch::from_blob(buffer_.mask.data(), {n, s.mask_size()});                       // [N, M]
@@ -173,14 +188,15 @@ UpdateStats PocaTrainer::update() {
   for (int epoch = 0; epoch < hp.num_epoch; ++epoch) {
     auto perm = permutation(n);
     auto idx = torch::from_blob(perm.data(), {n}, torch::kInt64);
-    auto pick = [&](const torch::Tensor& t) { return t.index_select(0, idx); };
-    auto e_obs = pick(obs), e_others = pick(others), e_actions = pick(actions),
-         e_present = pick(present), e_cont = pick(cont), e_disc = pick(disc), e_mask = pick(mask),
-         e_old = pick(old);
     for (int64_t b = 0; b < batches; ++b) {
-      auto slice = [&](const torch::Tensor& t) { return t.narrow(0, b * bs, bs); };
-      auto mb_obs = slice(e_obs), mb_others = slice(e_others), mb_present = slice(e_present);
-      auto mb_old = slice(e_old);
+      // each minibatch gathers its rows (a whole shuffled copy of the others' observations
+      // would be N x U x D floats, hundreds of MB, allocated and faulted in every epoch)
+      auto mb_idx = idx.narrow(0, b * bs, bs);                                   // [B]
+      auto slice = [&](const torch::Tensor& t) { return t.index_select(0, mb_idx); };
+      auto mb_obs = normalize(slice(obs)), mb_others = normalize(slice(others));  // [B, D], [B, U, D]
+      auto mb_present = slice(present);                                          // [B, U]
+      auto mb_old = slice(old);                                                  // [B, 5]
+      auto e_mask = mask, e_cont = cont, e_disc = disc, e_actions = actions;
       auto out = net_->actor(mb_obs);
       auto lp = evaluate_actions(s, out.mean, net_->log_std, out.logits,
                                  s.mask_size() ? slice(e_mask) : torch::Tensor(),

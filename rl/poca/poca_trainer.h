@@ -47,6 +47,9 @@ class PocaTrainer : public OnPolicyTrainer {
   // writes the action of `row` as the critic sees it: continuous values then one-hot branches
   void encode_action(const BehaviorBuffers& buf, int row, float* out) const;
   void finish(const BehaviorBuffers& buf, int row, bool terminal);
+  // member slots (of others_) used by any of the n rows of `present` [n, others_]: slots are
+  // packed, present groupmates first
+  int64_t packed_others(const std::vector<float>& present, int64_t n) const;
 
   PocaCritic critic_;
   int others_ = 0;       // member slots besides the agent's own: agent_slots - 1

@@ -55,7 +55,18 @@ void RunFolder::write_status(const TrainingStatus& s) const {
   os << "},\n  \"elo\": {";
   k = 0;
   for (const auto& [name, elo] : s.elo) os << (k++ ? ", " : "") << json_string(name) << ": " << json_number(elo);
-  os << "},\n  \"checkpoints\": [";
+  os << "},\n  \"strategies\": {";
+  k = 0;
+  for (const auto& e : s.strategies) {
+    os << (k++ ? "," : "") << "\n    " << json_string(e.strategy) << ": {\"metric\": "
+       << json_string(e.metric) << ", \"behavior\": " << json_string(e.behavior)
+       << ", \"emerged\": " << (e.step >= 0 ? "true" : "false");
+    if (e.step >= 0)
+      os << ", \"step\": " << e.step << ", \"elapsed_seconds\": " << json_number(e.elapsed_s)
+         << ", \"rate\": " << json_number(e.rate);
+    os << "}";
+  }
+  os << (k ? "\n  " : "") << "},\n  \"checkpoints\": [";
   for (size_t i = 0; i < s.checkpoints.size(); ++i) {
     const auto& c = s.checkpoints[i];
     os << (i ? "," : "") << "\n    {\"index\": " << c.index << ", \"file\": " << json_string(c.file)
@@ -78,6 +89,18 @@ TrainingStatus RunFolder::read_status() const {
     s.finished = root["finished"].as<bool>();
     for (const auto& kv : root["lessons"]) s.lessons[kv.first.as<std::string>()] = kv.second.as<int>();
     for (const auto& kv : root["elo"]) s.elo[kv.first.as<std::string>()] = kv.second.as<double>();
+    for (const auto& kv : root["strategies"]) {
+      Emergence e;
+      e.strategy = kv.first.as<std::string>();
+      e.metric = kv.second["metric"].as<std::string>();
+      e.behavior = kv.second["behavior"].as<std::string>();
+      if (kv.second["emerged"].as<bool>()) {
+        e.step = kv.second["step"].as<int64_t>();
+        e.elapsed_s = kv.second["elapsed_seconds"].as<double>();
+        e.rate = kv.second["rate"].as<double>();
+      }
+      s.strategies.push_back(e);
+    }
     for (const auto& c : root["checkpoints"]) {
       CheckpointEntry e;
       e.index = c["index"].as<int64_t>();

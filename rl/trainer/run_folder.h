@@ -1,9 +1,12 @@
 // The folder of one training run, results/<run-id>/:
 //   configuration.yaml     the resolved configuration
 //   training_status.json   checkpoints (newest last) with steps per behavior, curriculum lessons,
-//                          self-play ELO, whether training finished
+//                          self-play ELO, the step each of the env's strategies emerged at,
+//                          whether training finished
 //   checkpoints/           checkpoint-<index>.pt, written atomically (temporary file, then rename)
 //   metrics/<Behavior>.csv one row per update: losses, schedules, episodes since the last row
+//   metrics/episodes.csv   one row per summary: steps, lessons and the means of the env's episode
+//                          metrics (strategy rates) over the episodes since the last row
 //   <Behavior>.pt          the exported TorchScript policy
 #pragma once
 
@@ -11,6 +14,8 @@
 #include <map>
 #include <string>
 #include <vector>
+
+#include "rl/trainer/strategy_tracker.h"
 
 namespace rlt {
 
@@ -26,6 +31,7 @@ struct TrainingStatus {
   std::map<std::string, int> lessons;    // curriculum lesson per parameter, at the newest checkpoint
   std::map<std::string, double> elo;     // self-play rating per behavior, at the newest checkpoint
   std::vector<CheckpointEntry> checkpoints;  // oldest first
+  std::vector<Emergence> strategies;         // the env's strategies, emerged or not
   bool finished = false;
 };
 
@@ -42,6 +48,7 @@ class RunFolder {
   std::string metrics_path(const std::string& behavior) const {
     return file("metrics/" + behavior + ".csv");
   }
+  std::string episode_metrics_path() const { return file("metrics/episodes.csv"); }
   bool exists() const;
 
   // Creates the folder for a new run. Throws when it exists, unless `force` (then it is emptied).

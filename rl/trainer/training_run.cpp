@@ -16,6 +16,7 @@
 #include "rl/core/allocator_tuning.h"
 #include "rl/core/archive_io.h"
 #include "rl/core/compute_threads.h"
+#include "rl/core/json.h"
 #include "rl/core/sample_stats.h"
 #include "rl/core/policy_export.h"
 #include "rl/curriculum/environment_parameter_manager.h"
@@ -67,6 +68,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   }
   seed_ = es.seed >= 0 ? uint64_t(es.seed) : 0;
   int threads = es.num_threads > 0 ? es.num_threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  threads_ = threads;
   set_compute_threads(1);
   tune_allocator_for_training();
 
@@ -99,6 +101,11 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   summary_group_returns_.resize(trainers_.size());
   summary_metrics_.resize(trainers_.size());
   update_window_.resize(trainers_.size());
+  strategies_ = StrategyTracker(spec.strategies);
+  for (const auto& s : spec.strategies)
+    if (spec.behavior_index(s.behavior) < 0)
+      throw std::invalid_argument("environment " + spec.name + ": strategy " + s.name +
+                                  " is dated in steps of unknown behavior '" + s.behavior + "'");
 
   if (!options_.write_results) return;
   folder_ = std::make_unique<RunFolder>(cs.results_dir, cs.run_id);
@@ -118,6 +125,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
       const auto& last = status_.checkpoints.back();
       load_checkpoint(folder_->file(last.file), false);
       for (auto& t : trainers_) truncate_metrics(folder_->metrics_path(t->behavior()), t->step());
+      truncate_metrics(folder_->episode_metrics_path(), total_steps());
     }
     status_.finished = false;
   } else {
@@ -132,6 +140,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
       self_play_ = std::make_unique<SelfPlay>(ptrs, seed_ * 7717 + 3);
     }
     for (auto& t : trainers_) write_file_atomically(folder_->metrics_path(t->behavior()), kMetricsHeader);
+    status_.strategies = strategies_.emergences();
   }
   write_file_atomically(folder_->config_path(), run_config_to_yaml(config_));
   folder_->write_status(status_);
@@ -212,13 +221,18 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
           window[name].second += 1;
         }
     }
+    track_episodes(finished);
     update_curriculum(finished, episodes);
     result.trajectory_seconds += seconds_since(t0);
     for (int b = 0; b < nb; ++b) {
       auto& t = *trainers_[b];
       if (!t.finished() && t.update_ready()) {
         t0 = Clock::now();
+        const int learner_threads =
+            update_threads(t.obs_size(), t.config().network_settings.hidden_units, threads_);
+        if (learner_threads > 1) set_blas_threads(learner_threads);
         UpdateStats stats = t.update();
+        if (learner_threads > 1) set_blas_threads(1);
         result.update_seconds += seconds_since(t0);
         log_update(b, stats);
       }
@@ -303,6 +317,12 @@ void TrainingRun::save_checkpoint() {
     write_vector(ba, "window.lengths", update_window_[b].lengths);
     archive.write("behavior." + trainers_[b]->behavior(), ba);
   }
+  for (int i = 0; i < int(strategies_.strategies().size()); ++i) {
+    const Emergence& e = strategies_.emergences()[i];
+    write_vector(archive, "strategy." + e.strategy + ".window", strategies_.save_window(i));
+    write_vector(archive, "strategy." + e.strategy + ".emerged",
+                 std::vector<double>{double(e.step), e.elapsed_s, e.rate});
+  }
   write_string(archive, "run.parameters", parameters_.serialize());
   write_vector(archive, "run.lesson_resets", std::vector<int64_t>{lesson_resets_});
   {
@@ -326,6 +346,7 @@ void TrainingRun::save_checkpoint() {
     throw std::runtime_error("cannot move " + path + ".tmp to " + path);
   status_.checkpoints.push_back(entry);
   status_.lessons = parameters_.lessons();
+  status_.strategies = strategies_.emergences();
   status_.elo.clear();
   for (int b = 0; b < num_trainers(); ++b)
     if (trainers_[b]->config().self_play) status_.elo[trainers_[b]->behavior()] = self_play_->elo(b);
@@ -369,6 +390,17 @@ void TrainingRun::load_checkpoint(const std::string& path, bool weights_only) {
         throw std::runtime_error("checkpoint " + path + " has no self-play state");
       self_play_->load(sp);
     }
+    std::vector<Emergence> emerged = strategies_.emergences();
+    for (int i = 0; i < int(emerged.size()); ++i) {
+      const std::string key = "strategy." + emerged[i].strategy;
+      strategies_.load_window(i, read_vector<float>(archive, key + ".window"));
+      const auto e = read_vector<double>(archive, key + ".emerged");
+      emerged[i].step = int64_t(e.at(0));
+      emerged[i].elapsed_s = e.at(1);
+      emerged[i].rate = e.at(2);
+    }
+    strategies_.set_emergences(emerged);
+    status_.strategies = emerged;
     parameters_.deserialize(read_string(archive, "run.parameters"));
     lesson_resets_ = read_vector<int64_t>(archive, "run.lesson_resets").at(0);
     std::istringstream rng(read_string(archive, "run.parameter_rng"));
@@ -417,12 +449,81 @@ void TrainingRun::summarize(int b) {
   const double frac = double(t.step()) / double(t.config().max_steps);
   if (frac > 0 && frac < 1) os << " ETA: " << std::setprecision(0) << elapsed() * (1 - frac) / frac << " s.";
   os << (t.finished() ? "" : " Training.");
+  for (int i = 0; i < int(strategies_.strategies().size()); ++i) {
+    const StrategySpec& st = strategies_.strategies()[i];
+    if (st.behavior != t.behavior()) continue;
+    const Emergence& e = strategies_.emergences()[i];
+    os << " Strategy " << st.name << ": " << std::setprecision(3) << strategies_.rate(i);
+    if (e.step >= 0) os << " (emerged at step " << e.step << ")";
+    os << ".";
+  }
   returns.clear();
   summary_group_returns_[b].clear();
   summary_metrics_[b].clear();
+  log_episode_metrics();
   if (options_.progress && isatty(2)) std::cerr << "\r\033[K";
   *log_ << os.str() << std::endl;
   last_progress_ = -1;
+}
+
+int64_t TrainingRun::total_steps() const {
+  int64_t n = 0;
+  for (const auto& t : trainers_) n += t->step();
+  return n;
+}
+
+void TrainingRun::track_episodes(const std::vector<FinishedEpisode>& finished) {
+  if (finished.empty()) return;
+  std::map<std::string, int64_t> steps;
+  for (const auto& t : trainers_) steps[t->behavior()] = t->step();
+  bool emerged_any = false;
+  for (const auto& f : finished) {
+    ++episode_window_count_;
+    for (const auto& [name, value] : f.metrics) {
+      episode_window_[name].first += value;
+      episode_window_[name].second += 1;
+    }
+    if (strategies_.empty()) continue;
+    auto parameter = [&](const std::string& name) { return env_->parameter(f.env_index, name); };
+    for (int i : strategies_.add_episode(f.metrics, parameter, steps, elapsed())) {
+      const Emergence& e = strategies_.emergences()[i];
+      const StrategySpec& s = strategies_.strategies()[i];
+      if (options_.progress && isatty(2)) std::cerr << "\r\033[K";
+      *log_ << std::fixed << std::setprecision(3) << "[" << e.behavior << "] Strategy " << e.strategy
+            << " emerged at step " << e.step << " (" << std::setprecision(0) << e.elapsed_s
+            << " s): " << s.metric << std::setprecision(3) << " " << e.rate << " over the last "
+            << s.window << " episodes" << (s.min_parameter.empty() ? "" : " with " + s.min_parameter +
+            " >= " + json_number(s.min_value)) << "." << std::endl;
+      emerged_any = true;
+    }
+  }
+  if (emerged_any && folder_) {
+    status_.strategies = strategies_.emergences();
+    folder_->write_status(status_);
+  }
+}
+
+void TrainingRun::log_episode_metrics() {
+  if (!folder_ || episode_window_count_ == 0) return;
+  const std::string path = folder_->episode_metrics_path();
+  const bool fresh = !fs::exists(path) || fs::file_size(path) == 0;
+  std::ofstream out(path, std::ios::app);
+  if (fresh) {
+    out << "total_steps,elapsed_s,episodes";
+    for (const auto& t : trainers_) out << ',' << t->behavior() << "_step";
+    for (const auto& [name, lesson] : parameters_.lessons()) out << ",lesson_" << name;
+    for (const auto& [name, sum_count] : episode_window_) out << ',' << name;
+    for (const auto& s : strategies_.strategies()) out << ",smoothed_" << s.metric << "_" << s.name;
+    out << '\n';
+  }
+  out << total_steps() << ',' << elapsed() << ',' << episode_window_count_;
+  for (const auto& t : trainers_) out << ',' << t->step();
+  for (const auto& [name, lesson] : parameters_.lessons()) out << ',' << lesson;
+  for (const auto& [name, sum_count] : episode_window_) out << ',' << sum_count.first / sum_count.second;
+  for (int i = 0; i < int(strategies_.strategies().size()); ++i) out << ',' << strategies_.rate(i);
+  out << '\n';
+  episode_window_.clear();
+  episode_window_count_ = 0;
 }
 
 void TrainingRun::show_progress(bool done) {

@@ -22,6 +22,7 @@
 #include "rl/trainer/on_policy_trainer.h"
 #include "rl/selfplay/self_play.h"
 #include "rl/trainer/run_folder.h"
+#include "rl/trainer/strategy_tracker.h"
 
 namespace rlt {
 
@@ -68,6 +69,8 @@ class TrainingRun {
   const RunFolder* folder() const { return folder_.get(); }
   const SelfPlay& self_play() const { return *self_play_; }
   const EnvironmentParameterManager& parameters() const { return parameters_; }
+  // the env's strategies: smoothed rates and emergence steps
+  const StrategyTracker& strategies() const { return strategies_; }
 
  private:
   void boundary(bool final);
@@ -81,6 +84,11 @@ class TrainingRun {
   void export_policies();
   void log_update(int b, const UpdateStats& stats);
   void summarize(int b);
+  // strategies and the episode-metrics window of the finished env episodes
+  void track_episodes(const std::vector<FinishedEpisode>& finished);
+  // appends a row to metrics/episodes.csv with the episodes since the last row
+  void log_episode_metrics();
+  int64_t total_steps() const;
   void show_progress(bool force);
   double elapsed() const;
   uint64_t boundary_seed(int64_t index) const;
@@ -88,6 +96,7 @@ class TrainingRun {
   RunConfig config_;
   TrainOptions options_;
   uint64_t seed_ = 0;
+  int threads_ = 1;  // cores for env stepping and large learner updates
   std::unique_ptr<RunFolder> folder_;
   std::unique_ptr<VectorEnv> env_;
   std::vector<std::unique_ptr<OnPolicyTrainer>> trainers_;
@@ -105,6 +114,9 @@ class TrainingRun {
   std::vector<std::vector<float>> summary_group_returns_; // per behavior
   std::vector<std::map<std::string, std::pair<double, int>>> summary_metrics_;  // per behavior: sum, count
   std::vector<EpisodeStats> update_window_;               // per behavior: episodes since last row
+  StrategyTracker strategies_;
+  std::map<std::string, std::pair<double, int>> episode_window_;  // metric: sum, count since last row
+  int64_t episode_window_count_ = 0;                              // env episodes since last row
   double last_progress_ = -1;
   std::ostream* log_;
 };
