@@ -8,6 +8,7 @@
 #include "apps/command_line.h"
 #include "apps/commands.h"
 #include "rl/config/config_parser.h"
+#include "rl/core/compute_threads.h"
 #include "rl/core/json.h"
 #include "rl/trainer/behavior_policy.h"
 #include "rl/trainer/training_run.h"
@@ -17,11 +18,17 @@ namespace rlt {
 const char* const kBenchHelp = R"(Usage:
   rlt bench train CONFIG [--steps N] [--num-envs N] [--threads T] [--seed S] [--json]
       trains CONFIG for N agent steps per behavior (default 100000) without writing a run folder
-      and reports env_steps_per_s and agent_steps_per_s, end to end (acting, env, learning).
+      and reports env_steps_per_s and agent_steps_per_s, end to end (acting, env, learning),
+      where the time went, and learner_gflops: the updates' matrix-product operations (counted
+      from the layer shapes) per second of update time.
   rlt bench env ID [--frames N] [--num-envs N] [--threads T] [--param NAME=VALUE]... [--json]
       runs N frames (default 100000) with uniform random actions and reports frames_per_s and
       env_steps_per_s. A frame is a physics frame in the drone envs (a step is decision_period
       frames: 3 by default), an env step elsewhere. --threads defaults to the number of cores.
+  rlt bench gemm [--size N] [--threads T] [--json]
+      the machine's matrix-product peak: N x N times N x N single-precision products (default
+      2048) through LibTorch's BLAS, and the learner's first-layer shape (3072 x 857 times
+      857 x 256), with T threads (default: all cores); reports gflops of each.
 )";
 
 namespace {
@@ -40,18 +47,22 @@ int bench_train(const CommandLine& cl) {
   TrainingRun run(load_run_config(cl.positional()[1]), opt);
   TrainResult r = run.train();
   const double env_rate = r.env_steps / r.seconds, agent_rate = r.agent_steps / r.seconds;
+  const double learner_gflops =
+      r.update_seconds > 0 ? r.update_matmul_flops / r.update_seconds * 1e-9 : 0.0;
   if (cl.has("--json")) {
     std::cout << "{\"env_steps_per_s\":" << json_number(env_rate) << ",\"agent_steps_per_s\":"
               << json_number(agent_rate) << ",\"seconds\":" << json_number(r.seconds)
               << ",\"agent_steps\":" << r.agent_steps << ",\"acting_s\":" << json_number(r.acting_seconds)
               << ",\"env_s\":" << json_number(r.env_seconds)
               << ",\"trajectory_s\":" << json_number(r.trajectory_seconds)
-              << ",\"update_s\":" << json_number(r.update_seconds) << "}" << std::endl;
+              << ",\"update_s\":" << json_number(r.update_seconds)
+              << ",\"learner_gflops\":" << json_number(learner_gflops) << "}" << std::endl;
   } else {
     std::cout << r.agent_steps << " agent steps in " << r.seconds << " s: " << env_rate
               << " env steps/s, " << agent_rate << " agent steps/s (acting " << r.acting_seconds
               << " s, envs " << r.env_seconds << " s, trajectories " << r.trajectory_seconds
-              << " s, updates " << r.update_seconds << " s)" << std::endl;
+              << " s, updates " << r.update_seconds << " s; learner " << learner_gflops
+              << " GFLOP/s in matrix products)" << std::endl;
   }
   return 0;
 }
@@ -97,11 +108,44 @@ int bench_env(const CommandLine& cl) {
   return 0;
 }
 
+// GFLOP/s of repeated a [m, k] x b [k, n] products (about `seconds` of them, after a warm-up)
+double gemm_gflops(int64_t m, int64_t k, int64_t n, double seconds) {
+  torch::manual_seed(0);
+  auto a = torch::randn({m, k}), b = torch::randn({k, n}), c = torch::empty({m, n});
+  torch::mm_out(c, a, b);
+  int64_t reps = 0;
+  const auto start = std::chrono::steady_clock::now();
+  double elapsed = 0;
+  while (elapsed < seconds) {
+    torch::mm_out(c, a, b);
+    ++reps;
+    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return 2.0 * double(m) * double(k) * double(n) * double(reps) / elapsed * 1e-9;
+}
+
+int bench_gemm(const CommandLine& cl) {
+  const int64_t size = cl.integer("--size", 2048, 16);
+  const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+  const int threads = int(cl.integer("--threads", cores, 1));
+  set_compute_threads(threads);
+  const double square = gemm_gflops(size, size, size, 3.0);
+  const double learner = gemm_gflops(3072, 857, 256, 3.0);
+  if (cl.has("--json"))
+    std::cout << "{\"threads\":" << threads << ",\"size\":" << size << ",\"square_gflops\":"
+              << json_number(square) << ",\"learner_shape_gflops\":" << json_number(learner) << "}\n";
+  else
+    std::cout << threads << " thread(s): " << size << "^3 products " << square
+              << " GFLOP/s; 3072 x 857 x 256 products " << learner << " GFLOP/s\n";
+  return 0;
+}
+
 }  // namespace
 
 int run_bench(const std::vector<std::string>& args) {
-  CommandLine cl(args, {"--json"}, {"--steps", "--frames", "--num-envs", "--threads", "--seed", "--param"});
-  if (cl.positional().empty()) throw UsageError("expected 'train' or 'env'");
+  CommandLine cl(args, {"--json"}, {"--steps", "--frames", "--num-envs", "--threads", "--seed", "--param", "--size"});
+  if (cl.positional().empty()) throw UsageError("expected 'train', 'env' or 'gemm'");
+  if (cl.positional()[0] == "gemm") return bench_gemm(cl);
   if (cl.positional()[0] == "train") return bench_train(cl);
   if (cl.positional()[0] == "env") return bench_env(cl);
   throw UsageError("unknown benchmark '" + cl.positional()[0] + "'");

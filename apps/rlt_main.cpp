@@ -20,7 +20,7 @@ Commands:
                    (--policy Hider=scripted), optionally recording the episodes (--record FILE)
   export RUN_DIR   write each behavior's TorchScript policy to RUN_DIR/<Behavior>.pt
   envs             list the registered environments and their behavior specs
-  bench            measure training or environment throughput
+  bench            measure training, environment or matrix-product throughput
 
 Run 'rlt COMMAND --help' for the options of a command.
 

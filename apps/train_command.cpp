@@ -12,7 +12,9 @@ const char* const kTrainHelp = R"(Usage: rlt train CONFIG [options]
 
 Trains every behavior of the environment named by CONFIG's env_settings.env_id with the trainer of
 its behaviors: entry. Writes results/<run-id>/: configuration.yaml, checkpoints/, metrics/,
-training_status.json and <Behavior>.pt (TorchScript policies) at the end.
+training_status.json and <Behavior>.pt (TorchScript policies) at the end. Envs that declare
+strategies (HideAndSeek: running_and_chasing, shelter) get their episode metrics in
+metrics/episodes.csv and the step each strategy emerged at in training_status.json.
 
 Options:
   --run-id ID            run folder name (default: checkpoint_settings.run_id)
@@ -23,7 +25,8 @@ Options:
   --num-envs N           environment instances (default: env_settings.num_envs)
   --seed S               base seed; instance i uses S + i (default: env_settings.seed, else 0)
   --max-steps N          steps per behavior, overriding max_steps
-  --threads T            environment threads (default: all cores; the learner uses one)
+  --threads T            environment threads (default: all cores); the learner's matrix products
+                         use them too when the network is large (first layer >= 65536 weights)
 An existing run id without --resume or --force is an error that touches nothing.
 )";
 

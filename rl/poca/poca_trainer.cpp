@@ -235,11 +235,23 @@ UpdateStats PocaTrainer::update() {
   stats.value_loss = float(sums[1] / count);
   stats.baseline_loss = float(sums[2] / count);
   stats.entropy = float(sums[3] / count);
+  {
+    // critic: value over 1 + U members, baseline over the own observation and U (obs, action)
+    // pairs; each with embeddings, 4 attention projections per member, the MLP and the head
+    const double d = obs_size_, h = shape_hidden(), a = action_code_, u = double(used);
+    const int layers = config_.network_settings.num_layers;
+    const double tail = layers * h * h + h;
+    const double value = (1 + u) * (d * h + 4 * h * h) + tail;
+    const double baseline = d * h + u * (d + a) * h + (1 + u) * 4 * h * h + tail;
+    stats.matmul_flops = 6.0 * (actor_macs() + value + baseline) * double(batches * bs) * hp.num_epoch;
+  }
   buffer_.clear();
   ++updates_;
   actor_stale_ = true;
   return stats;
 }
+
+double PocaTrainer::shape_hidden() const { return critic_->shape().hidden_units; }
 
 void PocaTrainer::save_extra(torch::serialize::OutputArchive& archive) const {
   torch::serialize::OutputArchive critic;

@@ -50,6 +50,7 @@ class PocaTrainer : public OnPolicyTrainer {
   // member slots (of others_) used by any of the n rows of `present` [n, others_]: slots are
   // packed, present groupmates first
   int64_t packed_others(const std::vector<float>& present, int64_t n) const;
+  double shape_hidden() const;  // the critic's width
 
   PocaCritic critic_;
   int others_ = 0;       // member slots besides the agent's own: agent_slots - 1

@@ -104,6 +104,7 @@ UpdateStats PpoTrainer::update() {
   stats.policy_loss = float(sum_policy / count);
   stats.value_loss = float(sum_value / count);
   stats.entropy = float(sum_entropy / count);
+  stats.matmul_flops = 6.0 * (actor_macs() + ppo_critic_macs()) * double(batches * bs) * hp.num_epoch;
   buffer_.clear();
   ++updates_;
   actor_stale_ = true;

@@ -192,6 +192,20 @@ void OnPolicyTrainer::fill_schedules(UpdateStats& stats) const {
   stats.beta = decayed(hp.beta, 1e-5f, hp.beta_schedule.value_or(hp.learning_rate_schedule));
 }
 
+double OnPolicyTrainer::actor_macs() const {
+  const double d = obs_size_, h = config_.network_settings.hidden_units;
+  const int layers = config_.network_settings.num_layers;
+  const double heads = spec_.action.continuous_size + spec_.action.mask_size();
+  return d * h + (layers - 1) * h * h + h * heads;
+}
+
+double OnPolicyTrainer::ppo_critic_macs() const {
+  const double d = obs_size_, h = config_.network_settings.hidden_units;
+  const int layers = config_.network_settings.num_layers;
+  if (config_.hyperparameters.shared_critic) return h;
+  return d * h + (layers - 1) * h * h + h;
+}
+
 torch::Tensor OnPolicyTrainer::normalize(const torch::Tensor& obs) const {
   if (!config_.network_settings.normalize) return obs;
   auto mean = torch::tensor(normalizer_.mean_float());  // [D]

@@ -28,6 +28,9 @@ struct UpdateStats {
   float policy_loss = 0, value_loss = 0, baseline_loss = 0, entropy = 0;
   float learning_rate = 0, epsilon = 0, beta = 0;
   int64_t experiences = 0;
+  // floating-point operations of the update's matrix products (forward and backward, counted
+  // from the layer shapes: 2 per multiply-add, backward twice the forward), for throughput reports
+  double matmul_flops = 0;
 };
 
 // Rewards of episodes that ended since the statistics were last taken.
@@ -96,6 +99,10 @@ class OnPolicyTrainer {
   virtual std::vector<torch::Tensor> extra_parameters() { return {}; }
   virtual void save_extra(torch::serialize::OutputArchive& archive) const {}
   virtual void load_extra(torch::serialize::InputArchive& archive) {}
+
+  // multiply-adds of one forward pass of the actor and of PPO's critic, per experience
+  double actor_macs() const;
+  double ppo_critic_macs() const;
 
   // concatenated observations of `rows`: [rows, obs_size]; NaN and infinity are errors naming `what`
   void gather_obs(const BehaviorBuffers& buf, const std::vector<int>& rows, RowMatrix& out,

@@ -234,6 +234,7 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
         UpdateStats stats = t.update();
         if (learner_threads > 1) set_blas_threads(1);
         result.update_seconds += seconds_since(t0);
+        result.update_matmul_flops += stats.matmul_flops;
         log_update(b, stats);
       }
       if (t.step() >= next_summary_[b]) {

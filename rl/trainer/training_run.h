@@ -50,6 +50,7 @@ struct TrainResult {
   int64_t agent_steps = 0;  // decisions of all behaviors
   // where the time went (seconds): choosing actions, stepping envs, building trajectories, updates
   double acting_seconds = 0, env_seconds = 0, trajectory_seconds = 0, update_seconds = 0;
+  double update_matmul_flops = 0;  // matrix-product operations of every update (UpdateStats)
 };
 
 class TrainingRun {

@@ -371,4 +371,50 @@ TEST_F(RltCliTest, BenchEnvReportsPhysicsFrames) {
       << r.out;
 }
 
+// issue 5: the main job's config trains end to end (a few thousand steps: no update yet, the
+// buffer is 73,728) and both exported policies load in a fresh process and act
+TEST_F(RltCliTest, HideAndSeekConfigTrainsAndExportsBothPolicies) {
+  const fs::path results = root_ / "results_hs";
+  Result r = rlt("train " + quote(std::string(RLT_SOURCE_DIR) + "/configs/hide_and_seek.yaml") +
+                 " --max-steps 4000 --num-envs 2 --run-id hs --results-dir " + quote(results.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const fs::path run = results / "hs";
+  const std::string status = read_file(run / "training_status.json");
+  EXPECT_NE(status.find("\"running_and_chasing\": {\"metric\": \"tag_rate\", \"behavior\": \"Seeker\""),
+            std::string::npos) << status;
+  EXPECT_NE(status.find("\"shelter\": {\"metric\": \"fort_rate\""), std::string::npos) << status;
+  // episode metrics: a header naming the strategy metrics, a row per summary with episodes
+  const std::string episodes = read_file(run / "metrics/episodes.csv");
+  EXPECT_EQ(episodes.rfind("total_steps,elapsed_s,episodes,Hider_step,Seeker_step,lesson_level,", 0), 0u)
+      << episodes;
+  EXPECT_NE(episodes.find(",fort_rate,"), std::string::npos) << episodes;
+  EXPECT_NE(episodes.find(",tag_rate,"), std::string::npos) << episodes;
+  EXPECT_GE(std::count(episodes.begin(), episodes.end(), '\n'), 2) << episodes;
+  // both policies load in a fresh process (LibTorch only) and return 4 continuous actions and
+  // the grab and lock choices for one agent's 18 + 119 + 360 + 360 observation floats
+  const fs::path input = root_ / "hs_probe_input.txt";
+  {
+    std::ofstream in(input);
+    in << "1 5 4\n1 18\n1 119\n3 6 12 5\n3 9 8 5\n";
+    for (int i = 0; i < 857; ++i) in << (i % 7) * 0.1 << ' ';
+    in << "\n1 1 1 1 1\n";
+  }
+  for (const char* behavior : {"Hider", "Seeker"}) {
+    const fs::path policy = run / (std::string(behavior) + ".pt");
+    ASSERT_TRUE(fs::is_regular_file(policy)) << policy;
+    const fs::path out = root_ / (std::string(behavior) + "_probe.txt");
+    const std::string command = std::string(POLICY_PROBE) + " " + quote(policy.string()) + " " +
+                                quote(input.string()) + " > " + quote(out.string());
+    ASSERT_EQ(std::system(command.c_str()), 0) << behavior;
+    const std::string probe = read_file(out);
+    EXPECT_NE(probe.find("\"name\":\"" + std::string(behavior) + "\""), std::string::npos) << probe;
+    ASSERT_TRUE(std::regex_search(probe, std::regex(R"(\n\S+ \S+ \S+ \S+ \| \d \d)"))) << probe;
+  }
+  // and the run plays through rlt eval
+  Result e = rlt("eval " + quote(run.string()) + " --episodes 1 --json");
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  EXPECT_NE(e.out.find("\"behavior\":\"Seeker\""), std::string::npos) << e.out;
+  EXPECT_FALSE(std::isnan(json_value(e.out, "tag_rate"))) << e.out;
+}
+
 }  // namespace

@@ -160,5 +160,32 @@ TEST_F(PocaTrainerTest, AgentLeavingEarlyBootstrapsFromTheGroupValue) {
   for (int i = 0; i < b.size(); ++i) EXPECT_NEAR(b.advantages[i], b.returns[i] - b.baseline[i], 1e-6);
 }
 
+TEST_F(PocaTrainerTest, AbsentMembersTakeTheLastSlots) {
+  // after agent 2 leaves, each remaining member records its one groupmate in slot 0 and an empty
+  // slot 1 (the critic skips slots that no experience uses)
+  VectorEnv env("GroupEnv", 1, 0);
+  torch::manual_seed(0);
+  InspectablePoca trainer(env.spec().behaviors[0], poca_config(), 3, 1, "GroupEnv");
+  env.reset();
+  auto& buf = env.buffers(0);
+  for (int t = 0; t < 4; ++t) {
+    trainer.act(buf);
+    if (t < 3) {
+      env.step();
+      trainer.observe(buf);
+    }
+  }
+  for (int r = 0; r < 2; ++r) {
+    const auto& t = trainer.trajectory(r);
+    const int steps = int(t.others_present.size()) / 2;
+    ASSERT_EQ(steps, 4);
+    const int last = steps - 1, mate = 1 - r;
+    EXPECT_EQ(t.others_present[last * 2 + 0], 1.f);
+    EXPECT_EQ(t.others_present[last * 2 + 1], 0.f);
+    EXPECT_EQ(t.others_obs[(last * 2 + 0) * 4 + mate], 1.f) << "row " << r;
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(t.others_obs[(last * 2 + 1) * 4 + i], 0.f);
+  }
+}
+
 }  // namespace
 }  // namespace rlt
