@@ -1,6 +1,6 @@
 # Quick start: `make train` (train the default configuration) and `make test` (the whole suite).
 # Both install missing Debian packages, configure and build in Release into build/ first.
-CONFIG ?= configs/cartpole_ppo.yaml
+CONFIG ?= configs/hide_and_seek.yaml
 RUN_ID ?= default-$(shell date +%Y%m%d-%H%M%S)
 CTEST_ARGS ?=
 
@@ -9,8 +9,12 @@ CTEST_ARGS ?=
 build:
 	./scripts/setup.sh
 
+# MAX_STEPS=N shortens the run (rlt train --max-steps N)
+MAX_STEPS ?=
+
+# trains, then evaluates the policies and records a replay (scripts/train_and_report.sh)
 train: build
-	./build/apps/rlt train $(CONFIG) --run-id $(RUN_ID)
+	./scripts/train_and_report.sh $(CONFIG) $(RUN_ID) $(if $(MAX_STEPS),--max-steps $(MAX_STEPS))
 
 test: build
 	cd build && ctest --output-on-failure $(CTEST_ARGS)

@@ -25,6 +25,8 @@ Options:
   --num-envs N           environment instances (default: env_settings.num_envs)
   --seed S               base seed; instance i uses S + i (default: env_settings.seed, else 0)
   --max-steps N          steps per behavior, overriding max_steps
+  --param NAME=VALUE     set an env parameter over env_settings.params (repeat; not one that
+                         environment_parameters controls), e.g. --param unseen_reward=-0.001
   --threads T            environment threads (default: all cores); the learner's matrix products
                          use them too when the network is large (first layer >= 65536 weights)
 An existing run id without --resume or --force is an error that touches nothing.
@@ -33,7 +35,7 @@ An existing run id without --resume or --force is an error that touches nothing.
 int run_train(const std::vector<std::string>& args) {
   CommandLine cl(args, {"--resume", "--force"},
                  {"--run-id", "--results-dir", "--initialize-from", "--num-envs", "--seed",
-                  "--max-steps", "--threads"});
+                  "--max-steps", "--threads", "--param"});
   if (cl.positional().size() != 1) throw UsageError("expected one CONFIG file");
   TrainOptions opt;
   opt.run_id = cl.value("--run-id");
@@ -46,6 +48,7 @@ int run_train(const std::vector<std::string>& args) {
   opt.seed = cl.integer("--seed", -1, 0);
   opt.max_steps = cl.integer("--max-steps", 0, 1);
   opt.threads = int(cl.integer("--threads", 0, 1));
+  opt.params = cl.parameters();
   RunConfig config = load_run_config(cl.positional()[0]);
   // the parser does not know the registry: name the file and key of an unknown env here
   const std::string& env_id = config.env_settings.env_id;

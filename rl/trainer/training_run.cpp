@@ -62,6 +62,12 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   if (options_.num_envs > 0) es.num_envs = options_.num_envs;
   if (options_.seed >= 0) es.seed = options_.seed;
   if (options_.threads > 0) es.num_threads = options_.threads;
+  for (const auto& [name, value] : options_.params) {
+    if (config_.environment_parameters.count(name))
+      throw std::invalid_argument("--param " + name + ": " + config_.source_file +
+                                  " sets it in environment_parameters");
+    es.params[name] = value;
+  }
   if (options_.max_steps > 0) {
     for (auto& [name, b] : config_.behaviors) b.max_steps = options_.max_steps;
     if (config_.default_settings) config_.default_settings->max_steps = options_.max_steps;
@@ -77,6 +83,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   parameters_ = EnvironmentParameterManager(config_.environment_parameters);
   parameter_rng_.seed(seed_ * 6151 + 11);
   env_->set_parameters(parameters_.sample(parameter_rng_));  // validates the names now
+  env_->reset();  // and the values (envs check them at reset), before anything is written
   const EnvSpec& spec = env_->spec();
   for (const auto& [name, b] : config_.behaviors)
     if (spec.behavior_index(name) < 0) {

@@ -34,6 +34,7 @@ struct TrainOptions {
   int num_envs = 0;               // overrides env_settings.num_envs when > 0
   int64_t seed = -1;              // overrides env_settings.seed when >= 0
   int64_t max_steps = 0;          // overrides every behavior's max_steps when > 0
+  Parameters params;              // env parameters over env_settings.params (not curriculum ones)
   int threads = 0;                // env and LibTorch threads (0 = number of cores)
   bool write_results = true;      // false: no run folder (benchmarks)
   std::ostream* log = nullptr;    // summary lines (null = std::cout)

@@ -371,6 +371,23 @@ TEST_F(RltCliTest, BenchEnvReportsPhysicsFrames) {
       << r.out;
 }
 
+TEST_F(RltCliTest, TrainParamErrorsNameTheParameterAndWriteNothing) {
+  const std::string config = std::string(RLT_SOURCE_DIR) + "/configs/hide_and_seek.yaml";
+  const fs::path results = root_ / "results_param";
+  struct Case {
+    std::string param, message;
+  };
+  for (const Case& c : {Case{"level=2", "--param level: "},  // the curriculum owns it
+                        Case{"bogus=1", "no parameter 'bogus'"},
+                        Case{"unseen_reward=nan", "unseen_reward must be finite"}}) {
+    Result r = rlt("train " + quote(config) + " --param " + c.param + " --run-id p --results-dir " +
+                   quote(results.string()));
+    EXPECT_EQ(r.exit_code, 1) << c.param;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.param << ": " << r.err;
+    EXPECT_FALSE(fs::exists(results / "p")) << c.param;
+  }
+}
+
 // issue 5: the main job's config trains end to end (a few thousand steps: no update yet, the
 // buffer is 73,728) and both exported policies load in a fresh process and act
 TEST_F(RltCliTest, HideAndSeekConfigTrainsAndExportsBothPolicies) {

@@ -1,0 +1,80 @@
+# Shared by the experiment scripts (sourced, not run): training runs that are reused when they
+# already finished, and PNG line plots with gnuplot (installed from Debian when missing).
+set -euo pipefail
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+RLT=$ROOT/build/apps/rlt
+RESULTS=${RESULTS:-$ROOT/results/experiments}
+REPORTS=$ROOT/docs/results
+SEEDS=${SEEDS:-1}
+mkdir -p "$RESULTS" "$REPORTS"
+
+ensure_built() {
+  [ -x "$RLT" ] || "$ROOT/scripts/setup.sh"
+}
+
+ensure_gnuplot() {
+  command -v gnuplot > /dev/null && return
+  local sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo=sudo
+  $sudo apt-get install -y --no-install-recommends gnuplot-nox
+}
+
+# train_run CONFIG RUN_ID [rlt train options]: trains unless RUN_ID already finished; a stopped
+# run is resumed
+train_run() {
+  local config=$1 run_id=$2
+  shift 2
+  local status=$RESULTS/$run_id/training_status.json
+  if [ -f "$status" ] && grep -q '"finished": true' "$status"; then
+    echo "reusing finished run $RESULTS/$run_id"
+    return
+  fi
+  local mode=()
+  [ -f "$status" ] && mode=(--resume)
+  "$RLT" train "$config" --run-id "$run_id" --results-dir "$RESULTS" "${mode[@]}" "$@" |
+    tee -a "$RESULTS/$run_id.log"
+}
+
+# column NAME CSV: the 1-based index of column NAME in the CSV's header
+column() {
+  head -n 1 "$2" | tr ',' '\n' | grep -n -x "$1" | cut -d: -f1
+}
+
+# emerged RUN_ID STRATEGY: the step STRATEGY emerged at in the run, or "not emerged"
+emerged() {
+  local status=$RESULTS/$1/training_status.json
+  local line
+  line=$(grep -o "\"$2\": {[^}]*}" "$status")
+  if echo "$line" | grep -q '"emerged": true'; then
+    echo "$line" | sed 's/.*"step": \([0-9]*\).*/\1/'
+  else
+    echo "not emerged"
+  fi
+}
+
+# emerged_minutes RUN_ID STRATEGY: training minutes when STRATEGY emerged
+emerged_minutes() {
+  local status=$RESULTS/$1/training_status.json
+  grep -o "\"$2\": {[^}]*}" "$status" | grep -o '"elapsed_seconds": [0-9.e+]*' |
+    awk '{ printf "%.1f", $2 / 60 }'
+}
+
+# plot OUT.png TITLE XLABEL YLABEL then series as "CSV|XCOLUMN|YCOLUMN|LABEL" ...
+plot() {
+  local out=$1 title=$2 xlabel=$3 ylabel=$4
+  shift 4
+  local cmds="set terminal pngcairo size 900,500 font 'sans,10'; set output '$out';"
+  cmds+=" set datafile separator ','; set key top left; set grid;"
+  cmds+=" set title '$title'; set xlabel '$xlabel'; set ylabel '$ylabel'; plot "
+  local first=1
+  for series in "$@"; do
+    IFS='|' read -r csv xname yname label <<< "$series"
+    local x y
+    x=$(column "$xname" "$csv")
+    y=$(column "$yname" "$csv")
+    [ $first -eq 1 ] || cmds+=", "
+    cmds+="'$csv' every ::1 using $x:$y with lines lw 2 title '$label'"
+    first=0
+  done
+  gnuplot -e "$cmds"
+}

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# RQ1: does the curriculum help the hiders? The default configuration (four levels advanced by the
+# hiders' reward) against the same configuration at level 4 from the first step, 3.3M steps per
+# behavior each, for every seed in SEEDS (default 1). Writes docs/results/rq1_curriculum.md and
+# its plots. Not run in CI: each run takes tens of minutes on 2 cores.
+source "$(dirname "$0")/common.sh"
+ensure_built
+ensure_gnuplot
+STEPS=${STEPS:-3300000}
+report=$REPORTS/rq1_curriculum.md
+{
+  echo "# RQ1: curriculum vs no curriculum for the hiders"
+  echo
+  echo "Produced by \`scripts/experiments/rq1_curriculum.sh\` on $(date -u +%Y-%m-%d), $STEPS steps"
+  echo "per behavior, seeds: $SEEDS. Curriculum: \`configs/hide_and_seek.yaml\`; no curriculum:"
+  echo "\`configs/experiments/rq1_no_curriculum.yaml\` (level 4 throughout)."
+  echo
+  echo "| seed | arm | final hider reward | final lesson | fort rate (last row) | minutes |"
+  echo "|---|---|---|---|---|---|"
+} > "$report"
+for seed in $SEEDS; do
+  train_run "$ROOT/configs/hide_and_seek.yaml" "rq1_curriculum_s$seed" --seed "$seed" --max-steps "$STEPS"
+  train_run "$ROOT/configs/experiments/rq1_no_curriculum.yaml" "rq1_no_curriculum_s$seed" --seed "$seed" --max-steps "$STEPS"
+  for arm in curriculum no_curriculum; do
+    run=$RESULTS/rq1_${arm}_s$seed
+    hider=$run/metrics/Hider.csv
+    episodes=$run/metrics/episodes.csv
+    reward=$(awk -F, 'NR > 1 && $3 > 0 { r = $4 } END { printf "%.3f", r }' "$hider")
+    lesson=$(grep -o '"level": [0-9]*' "$run/training_status.json" | awk '{ print $2 + 1 }')
+    fort=$(awk -F, -v c="$(column fort_rate "$episodes")" 'NR > 1 { f = $c } END { printf "%.2f", f }' "$episodes")
+    minutes=$(awk -F, 'END { printf "%.0f", $2 / 60 }' "$hider")
+    echo "| $seed | $arm | $reward | ${lesson:-fixed 4} | $fort | $minutes |" >> "$report"
+  done
+  plot "$REPORTS/rq1_hider_reward_s$seed.png" "RQ1: hider reward, seed $seed" "hider steps" "mean episode reward" \
+    "$RESULTS/rq1_curriculum_s$seed/metrics/Hider.csv|step|mean_return|curriculum" \
+    "$RESULTS/rq1_no_curriculum_s$seed/metrics/Hider.csv|step|mean_return|no curriculum (level 4)"
+  plot "$REPORTS/rq1_lesson_s$seed.png" "RQ1: curriculum lesson and fort rate, seed $seed" "hider steps" "" \
+    "$RESULTS/rq1_curriculum_s$seed/metrics/episodes.csv|Hider_step|lesson_level|lesson (0 = level 1)" \
+    "$RESULTS/rq1_curriculum_s$seed/metrics/episodes.csv|Hider_step|fort_rate|fort rate, curriculum" \
+    "$RESULTS/rq1_no_curriculum_s$seed/metrics/episodes.csv|Hider_step|fort_rate|fort rate, level 4"
+  {
+    echo
+    echo "![hider reward, seed $seed](rq1_hider_reward_s$seed.png)"
+    echo "![lesson and fort rate, seed $seed](rq1_lesson_s$seed.png)"
+  } >> "$report"
+done
+echo "wrote $report"

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# RQ2: how many steps until running-and-chasing and until shelter emerge? Trains the default
+# configuration (STEPS per behavior, default its own max_steps) for every seed in SEEDS and reads
+# the emergence steps the run recorded (training_status.json: the first step where the rate over
+# the last 100 episodes exceeds 0.5; shelter counts episodes at level 2 and above). Writes
+# docs/results/rq2_emergence.md with the paper's and OpenAI's figures next to ours.
+source "$(dirname "$0")/common.sh"
+ensure_built
+ensure_gnuplot
+STEPS=${STEPS:-}
+report=$REPORTS/rq2_emergence.md
+{
+  echo "# RQ2: steps until the strategies emerge"
+  echo
+  echo "Produced by \`scripts/experiments/rq2_emergence.sh\` on $(date -u +%Y-%m-%d) from"
+  echo "\`configs/hide_and_seek.yaml\`${STEPS:+ with --max-steps $STEPS}, seeds: $SEEDS, on $(nproc) cores."
+  echo
+  echo "| | running and chasing (seeker steps) | shelter (hider steps) |"
+  echo "|---|---|---|"
+  echo "| paper (Unity ML-Agents) | 1.6M | 2.3M |"
+  echo "| OpenAI hide-and-seek | about 2M | about 25M |"
+} > "$report"
+for seed in $SEEDS; do
+  run_id=rq2_default_s$seed
+  train_run "$ROOT/configs/hide_and_seek.yaml" "$run_id" --seed "$seed" ${STEPS:+--max-steps "$STEPS"}
+  chase=$(emerged "$run_id" running_and_chasing)
+  shelter=$(emerged "$run_id" shelter)
+  chase_min=$(emerged_minutes "$run_id" running_and_chasing)
+  shelter_min=$(emerged_minutes "$run_id" shelter)
+  echo "| ours, seed $seed | $chase${chase_min:+ ($chase_min min)} | $shelter${shelter_min:+ ($shelter_min min)} |" >> "$report"
+  episodes=$RESULTS/$run_id/metrics/episodes.csv
+  plot "$REPORTS/rq2_chasing_s$seed.png" "RQ2: running and chasing, seed $seed" "seeker steps" "rate" \
+    "$episodes|Seeker_step|tag_rate|tag rate (per summary)" \
+    "$episodes|Seeker_step|smoothed_tag_rate_running_and_chasing|tag rate, last 100 episodes" \
+    "$episodes|Seeker_step|seen_fraction|seen fraction"
+  plot "$REPORTS/rq2_shelter_s$seed.png" "RQ2: shelter, seed $seed" "hider steps" "rate" \
+    "$episodes|Hider_step|fort_rate|fort rate (per summary, any level)" \
+    "$episodes|Hider_step|smoothed_fort_rate_shelter|fort rate at level >= 2, last 100 episodes" \
+    "$episodes|Hider_step|hidden_fraction|hidden fraction" \
+    "$episodes|Hider_step|lesson_level|lesson (0 = level 1)"
+  {
+    echo
+    echo "![chasing, seed $seed](rq2_chasing_s$seed.png)"
+    echo "![shelter, seed $seed](rq2_shelter_s$seed.png)"
+  } >> "$report"
+done
+echo "wrote $report"
