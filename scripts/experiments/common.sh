@@ -63,7 +63,7 @@ emerged_minutes() {
 plot() {
   local out=$1 title=$2 xlabel=$3 ylabel=$4
   shift 4
-  local cmds="set terminal pngcairo size 900,500 font 'sans,10'; set output '$out';"
+  local cmds="set terminal pngcairo noenhanced size 900,500 font 'sans,10'; set output '$out';"
   cmds+=" set datafile separator ','; set key top left; set grid;"
   cmds+=" set title '$title'; set xlabel '$xlabel'; set ylabel '$ylabel'; plot "
   local first=1
