@@ -159,12 +159,20 @@ void SelfPlay::after_step(const std::vector<BehaviorBuffers*>& buffers,
     pool.next_slot = (pool.next_slot + 1) % sp.window;
     pool.last_save = steps;
   }
-  // the learning team changes every team_change steps of its behavior
+  // the learning team changes every team_change steps of its behavior, and as soon as its
+  // behavior reached max_steps (its steps would otherwise run on, unused, until team_change)
   bool swap = ghost_steps_ - last_swap_ >= sp.swap_steps;
-  if (teams_.size() > 1 && steps - last_team_change_ >= sp.team_change) {
-    learning_team_ = (learning_team_ + 1) % int(teams_.size());
-    last_team_change_ = trainers_[teams_[learning_team_].behavior]->step();
-    swap = true;
+  const bool learner_done = trainers_[learner.behavior]->finished();
+  if (teams_.size() > 1 && (steps - last_team_change_ >= sp.team_change || learner_done)) {
+    const int n = int(teams_.size());
+    int next = (learning_team_ + 1) % n;
+    // the next team whose behavior still trains (the same team when every other one is done)
+    for (int k = 1; k < n && trainers_[teams_[next].behavior]->finished(); ++k) next = (next + 1) % n;
+    if (next != learning_team_ && !(learner_done && trainers_[teams_[next].behavior]->finished())) {
+      learning_team_ = next;
+      last_team_change_ = trainers_[teams_[learning_team_].behavior]->step();
+      swap = true;
+    }
   }
   if (swap) {
     swap_opponents();

@@ -258,7 +258,12 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
       if (stop_after_boundaries > 0 && ++boundaries >= stop_after_boundaries) break;
     }
   }
-  if (all_finished()) boundary(true);
+  if (all_finished()) {
+    // a last summary of what happened since the previous one
+    for (int b = 0; b < nb; ++b)
+      if (trainers_[b]->step() > next_summary_[b] - trainers_[b]->config().summary_freq) summarize(b);
+    boundary(true);
+  }
   show_progress(true);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   for (auto& t : trainers_) result.agent_steps += t->step();

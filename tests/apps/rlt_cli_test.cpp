@@ -389,11 +389,12 @@ TEST_F(RltCliTest, TrainParamErrorsNameTheParameterAndWriteNothing) {
 }
 
 // issue 5: the main job's config trains end to end (a few thousand steps: no update yet, the
-// buffer is 73,728) and both exported policies load in a fresh process and act
+// buffer is 12,288; the first episodes end after 1024 decisions) and both exported policies load
+// in a fresh process and act
 TEST_F(RltCliTest, HideAndSeekConfigTrainsAndExportsBothPolicies) {
   const fs::path results = root_ / "results_hs";
   Result r = rlt("train " + quote(std::string(RLT_SOURCE_DIR) + "/configs/hide_and_seek.yaml") +
-                 " --max-steps 4000 --num-envs 2 --run-id hs --results-dir " + quote(results.string()));
+                 " --max-steps 6000 --num-envs 2 --run-id hs --results-dir " + quote(results.string()));
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const fs::path run = results / "hs";
   const std::string status = read_file(run / "training_status.json");
