@@ -1,10 +1,12 @@
 # Shared by the experiment scripts (sourced, not run): training runs that are reused when they
 # already finished, and PNG line plots with gnuplot (installed from Debian when missing).
+# Environment: RESULTS (run folders, default results/experiments), REPORTS (default docs/results),
+# SEEDS (default 1), STEPS (each script's own default).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 RLT=$ROOT/build/apps/rlt
 RESULTS=${RESULTS:-$ROOT/results/experiments}
-REPORTS=$ROOT/docs/results
+REPORTS=${REPORTS:-$ROOT/docs/results}
 SEEDS=${SEEDS:-1}
 mkdir -p "$RESULTS" "$REPORTS"
 
