@@ -459,9 +459,6 @@ void TrainingRun::summarize(int b) {
   for (const auto& [name, lesson] : parameters_.lessons()) os << " Lesson " << name << ": " << lesson << ".";
   for (const auto& [name, sum_count] : summary_metrics_[b])
     os << " " << name << ": " << sum_count.first / sum_count.second << ".";
-  const double frac = double(t.step()) / double(t.config().max_steps);
-  if (frac > 0 && frac < 1) os << " ETA: " << std::setprecision(0) << elapsed() * (1 - frac) / frac << " s.";
-  os << (t.finished() ? "" : " Training.");
   for (int i = 0; i < int(strategies_.strategies().size()); ++i) {
     const StrategySpec& st = strategies_.strategies()[i];
     if (st.behavior != t.behavior()) continue;
@@ -470,6 +467,9 @@ void TrainingRun::summarize(int b) {
     if (e.step >= 0) os << " (emerged at step " << e.step << ")";
     os << ".";
   }
+  const double frac = double(t.step()) / double(t.config().max_steps);
+  if (frac > 0 && frac < 1) os << " ETA: " << std::setprecision(0) << elapsed() * (1 - frac) / frac << " s.";
+  os << (t.finished() ? "" : " Training.");
   returns.clear();
   summary_group_returns_[b].clear();
   summary_metrics_[b].clear();

@@ -57,13 +57,15 @@ emerged() {
 # emerged_minutes RUN_ID STRATEGY: training minutes when STRATEGY emerged
 emerged_minutes() {
   local status=$RESULTS/$1/training_status.json
-  grep -o "\"$2\": {[^}]*}" "$status" | grep -o '"elapsed_seconds": [0-9.e+]*' |
+  { grep -o "\"$2\": {[^}]*}" "$status" | grep -o '"elapsed_seconds": [0-9.e+]*' || true; } |
     awk '{ printf "%.1f", $2 / 60 }'
 }
 
 # plot OUT.png TITLE XLABEL YLABEL then series as "CSV|XCOLUMN|YCOLUMN|LABEL" ...
 plot() {
-  local out=$1 title=$2 xlabel=$3 ylabel=$4
+  # gnuplot's single-quoted strings write a quote as two
+  local q="'" qq="''"
+  local out=$1 title=${2//$q/$qq} xlabel=${3//$q/$qq} ylabel=${4//$q/$qq}
   shift 4
   local cmds="set terminal pngcairo noenhanced size 900,500 font 'sans,10'; set output '$out';"
   cmds+=" set datafile separator ','; set key top left; set grid;"
@@ -71,6 +73,7 @@ plot() {
   local first=1
   for series in "$@"; do
     IFS='|' read -r csv xname yname label <<< "$series"
+    label=${label//$q/$qq}
     local x y
     x=$(column "$xname" "$csv")
     y=$(column "$yname" "$csv")
@@ -78,5 +81,6 @@ plot() {
     cmds+="'$csv' every ::1 using $x:$y with lines lw 2 title '$label'"
     first=0
   done
-  gnuplot -e "$cmds"
+  # a run too short to have data leaves the plot out, not the report
+  gnuplot -e "$cmds" || echo "no plot $out: gnuplot found no data" >&2
 }

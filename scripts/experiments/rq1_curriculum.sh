@@ -26,7 +26,8 @@ for seed in $SEEDS; do
     hider=$run/metrics/Hider.csv
     episodes=$run/metrics/episodes.csv
     reward=$(awk -F, 'NR > 1 && $3 > 0 { r = $4 } END { printf "%.3f", r }' "$hider")
-    lesson=$(grep -o '"level": [0-9]*' "$run/training_status.json" | awk '{ print $2 + 1 }')
+    # the lesson index (0 = level 1); the control arm has no curriculum
+    lesson=$({ grep -o '"level": [0-9]*' "$run/training_status.json" || true; } | awk '{ print $2 + 1 }')
     fort=$(awk -F, -v c="$(column fort_rate "$episodes")" 'NR > 1 { f = $c } END { printf "%.2f", f }' "$episodes")
     minutes=$(awk -F, 'END { printf "%.0f", $2 / 60 }' "$hider")
     echo "| $seed | $arm | $reward | ${lesson:-fixed 4} | $fort | $minutes |" >> "$report"
