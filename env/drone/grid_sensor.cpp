@@ -13,12 +13,10 @@ namespace rlt::drone {
 namespace {
 
 constexpr float kDegToRad = 3.14159265358979f / 180.0f;
-// a packed (distance, tag) key: the distance's float bits with the tag in the low 3 bits; for
-// distances >= 0 the unsigned order is the distance order, so nearest wins = unsigned min
-constexpr std::uint32_t kTagBits = 7u;
+// a distance key: the distance's float bits; for distances >= 0 the unsigned order is the distance
+// order, so nearest wins = unsigned min
 constexpr std::uint32_t kEmpty = 0xffffffffu;
-static_assert(kNumTags <= 8, "tags must fit in the key's low 3 bits");
-// interleaved scatter banks: neighbouring points (often in the same cell) update different banks
+// interleaved scatter banks: neighbouring points (often in the same slot) update different banks
 constexpr int kBanks = 4;
 
 // per-thread scratch of one observation, sized to the point cloud
@@ -26,9 +24,9 @@ struct Scratch {
   std::vector<float> lat;             // [n] latitude (rad)
   std::vector<float> lon;             // [n] longitude (rad), positive to the right
   std::vector<float> distance2;       // [n] squared distance (m^2)
-  std::vector<std::uint32_t> key;     // [n] packed (distance, tag)
-  std::vector<std::int32_t> cell;     // [n] cell of one sensor, num_cells = not seen
-  std::vector<std::uint32_t> banks;   // [kBanks, num_cells + 1] nearest key per cell
+  std::vector<std::uint32_t> key;     // [n] distance bits
+  std::vector<std::int32_t> slot;     // [n] cell * kNumTags + tag of one sensor, size() = not seen
+  std::vector<std::uint32_t> banks;   // [kBanks, num_cells * kNumTags + 1] nearest key per slot
 };
 
 thread_local Scratch scratch;
@@ -38,7 +36,7 @@ thread_local Scratch scratch;
 // right = forward x up = (-fz, 0, fx)
 __attribute__((noinline)) void project_kernel(
     int n, const float* __restrict px, const float* __restrict py, const float* __restrict pz,
-    const std::int32_t* __restrict tag, float ox, float oy, float oz, float fx, float fz,
+    float ox, float oy, float oz, float fx, float fz,
     float* __restrict lat, float* __restrict lon, float* __restrict distance2,
     std::uint32_t* __restrict key) {
   for (int i = 0; i < n; ++i) {
@@ -51,9 +49,7 @@ __attribute__((noinline)) void project_kernel(
     lat[i] = fast_atan2(dy, std::sqrt(horizontal2));
     distance2[i] = d2;
     const float d = std::sqrt(d2);
-    std::uint32_t bits;
-    std::memcpy(&bits, &d, sizeof bits);
-    key[i] = (bits & ~kTagBits) | static_cast<std::uint32_t>(tag[i]);
+    std::memcpy(&key[i], &d, sizeof d);
   }
 }
 
@@ -75,7 +71,7 @@ void project(const SurfacePoints& points, const btTransform& pose, Scratch& s) {
     fz = 1.0f;
   }
   const btVector3& origin = pose.getOrigin();
-  project_kernel(n, points.x(), points.y(), points.z(), points.tag(), origin.x(), origin.y(),
+  project_kernel(n, points.x(), points.y(), points.z(), origin.x(), origin.y(),
                  origin.z(), fx, fz, s.lat.data(), s.lon.data(), s.distance2.data(),
                  s.key.data());
 }
@@ -144,14 +140,15 @@ void GridSensor::observe_many(const GridSensor* const* sensors, float* const* ou
   Scratch& s = scratch;
   project(points, pose, s);
   const int n = points.size();
-  s.cell.resize(n);
+  s.slot.resize(n);
 
   for (int k = 0; k < count; ++k) {
     const GridSensor& sensor = *sensors[k];
     const GridSensorParams& p = sensor.params_;
     const int rows = sensor.lat_cells_, columns = sensor.lon_cells_;
     const int cells = rows * columns;
-    const std::int32_t unseen = cells;  // the spare cell past the grid
+    const int slots = cells * kNumTags;
+    const std::int32_t unseen = slots;  // the spare slot past the grid
     // the range checks; a full range is not checked (fast_atan2 may pass +-pi by ~1e-5)
     const float north = p.lat_north_degrees * kDegToRad;
     const float lat_high = p.lat_north_degrees >= 90.0f ? 1e30f : north;
@@ -162,11 +159,12 @@ void GridSensor::observe_many(const GridSensor* const* sensors, float* const* ou
     const float per_lon = 1.0f / (sensor.lon_arc_ * kDegToRad);
     const float max_distance2 = p.max_distance * p.max_distance;
 
-    // cell of every point (vectorizable)
+    // slot (cell and tag channel) of every point (vectorizable)
     const float* __restrict lat = s.lat.data();
     const float* __restrict lon = s.lon.data();
     const float* __restrict distance2 = s.distance2.data();
-    std::int32_t* __restrict cell = s.cell.data();
+    const std::int32_t* __restrict tag = points.tag();
+    std::int32_t* __restrict slot = s.slot.data();
     for (int i = 0; i < n; ++i) {
       const float row_f = std::max((north - lat[i]) * per_lat, 0.0f);
       const float column_f = std::max((lon[i] + lon_half) * per_lon, 0.0f);
@@ -175,15 +173,16 @@ void GridSensor::observe_many(const GridSensor* const* sensors, float* const* ou
       // & rather than &&: no branches in the loop
       const bool seen = (lat[i] <= lat_high) & (lat[i] >= lat_low) & (lon[i] <= lon_limit) &
                         (lon[i] >= -lon_limit) & (distance2[i] <= max_distance2);
-      cell[i] = seen ? row * columns + column : unseen;
+      slot[i] = seen ? (row * columns + column) * kNumTags + tag[i] : unseen;
     }
     if (self_body >= 0) {
       const SurfaceBody& own = points.body(self_body);
-      std::fill(cell + own.begin, cell + own.end, unseen);
+      std::fill(slot + own.begin, slot + own.end, unseen);
     }
 
-    // nearest wins: unsigned min of packed keys, four banks interleaved
-    const int stride = cells + 1;
+    // nearest wins within each tag's channel: unsigned min of distance keys, four banks
+    // interleaved
+    const int stride = slots + 1;
     s.banks.assign(static_cast<size_t>(kBanks) * stride, kEmpty);
     std::uint32_t* b0 = s.banks.data();
     std::uint32_t* b1 = b0 + stride;
@@ -192,27 +191,28 @@ void GridSensor::observe_many(const GridSensor* const* sensors, float* const* ou
     const std::uint32_t* key = s.key.data();
     int i = 0;
     for (; i + kBanks <= n; i += kBanks) {
-      b0[cell[i]] = std::min(b0[cell[i]], key[i]);
-      b1[cell[i + 1]] = std::min(b1[cell[i + 1]], key[i + 1]);
-      b2[cell[i + 2]] = std::min(b2[cell[i + 2]], key[i + 2]);
-      b3[cell[i + 3]] = std::min(b3[cell[i + 3]], key[i + 3]);
+      b0[slot[i]] = std::min(b0[slot[i]], key[i]);
+      b1[slot[i + 1]] = std::min(b1[slot[i + 1]], key[i + 1]);
+      b2[slot[i + 2]] = std::min(b2[slot[i + 2]], key[i + 2]);
+      b3[slot[i + 3]] = std::min(b3[slot[i + 3]], key[i + 3]);
     }
-    for (; i < n; ++i) b0[cell[i]] = std::min(b0[cell[i]], key[i]);
+    for (; i < n; ++i) b0[slot[i]] = std::min(b0[slot[i]], key[i]);
 
-    // proximity of each cell's nearest point in its tag's channel
+    // proximity of the nearest point of each channel of each cell
     float* out = outs[k];
-    std::fill(out, out + cells * kNumTags, 0.0f);
     const float span = p.max_distance - p.min_distance;
-    for (int c = 0; c < cells; ++c) {
+    for (int c = 0; c < slots; ++c) {
       const std::uint32_t nearest = std::min(std::min(b0[c], b1[c]), std::min(b2[c], b3[c]));
-      if (nearest == kEmpty) continue;
-      const std::uint32_t bits = nearest & ~kTagBits;
+      if (nearest == kEmpty) {
+        out[c] = 0.0f;
+        continue;
+      }
       float d;
-      std::memcpy(&d, &bits, sizeof d);
+      std::memcpy(&d, &nearest, sizeof d);
       float proximity = 1.0f - (std::max(d, p.min_distance) - p.min_distance) / span;
       proximity = std::clamp(proximity, 0.0f, 1.0f);
       if (p.normalization != 1.0f) proximity = std::pow(proximity, p.normalization);
-      out[c * kNumTags + (nearest & kTagBits)] = proximity;
+      out[c] = proximity;
     }
   }
 }

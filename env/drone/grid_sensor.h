@@ -15,16 +15,21 @@
 // Output order, row-major [lat_cells, lon_cells, kNumTags] floats like an image of the view:
 //   row 0 = northmost (up), rows go down; column 0 = leftmost (lon = -lon_degrees), columns go right;
 //   channel = Tag (kWall, kProp, kObstacle, kHider, kSeeker).
-// A point counts when d <= max_distance and its direction is inside both ranges (edges included). Within a cell the nearest point wins: the cell holds proximity
+// A point counts when d <= max_distance and its direction is inside both ranges (edges included).
+// Nearest wins within each tag's channel, as in MBaske's GridSensorComponent3D (the sensor the
+// paper used): each channel of a cell holds
 //   (1 - (max(d, min_distance) - min_distance) / (max_distance - min_distance)) ^ normalization
-// in the channel of that point's tag and 0 in the others; empty cells are all 0. Every value is in
-// [0, 1] (points closer than min_distance give 1; normalization 1 = linear, < 1 stretches far ones).
+// for the nearest point of that tag in the cell, and 0 when the cell has none. Tags do not occlude
+// each other: a hider behind a wall shows in the hider channel of the cell that also shows the
+// wall (the sensor senses what is around within max_distance; seeing is vision.h's business).
+// Every value is in [0, 1] (points closer than min_distance give 1; normalization 1 = linear,
+// < 1 stretches far ones).
 // The observing body's own points (self_body, an index of SurfacePoints::body; -1 for none) are
 // skipped.
 // Cost: one vectorizable pass over the structure-of-arrays points (relative offset, yaw rotation,
 // squared distance, fast_atan2 twice, sqrt), shared by every sensor of one observe_many() call, then
-// per sensor a vectorizable cell-index pass and a scalar nearest-wins scatter of packed
-// (distance, tag) keys into four interleaved banks (no store-to-load chains between neighbours).
+// per sensor a vectorizable (cell, tag) slot pass and a scalar nearest-wins scatter of distance keys
+// into four interleaved banks (no store-to-load chains between neighbours).
 // observe() and observe_many() are const and thread-safe (scratch space is per thread).
 #ifndef RLT_ENV_DRONE_GRID_SENSOR_H_
 #define RLT_ENV_DRONE_GRID_SENSOR_H_

@@ -58,6 +58,7 @@ struct HideAndSeek::Settings {
   float tag_distance = 0.1f;
   float vision_range = drone::kDefaultVisionRange;
   float vision_cone = drone::kDefaultConeDegrees;
+  float hider_outside_chance = 0.0f;  // chance that a hider starts just outside the room
 };
 
 namespace {
@@ -109,6 +110,7 @@ HideAndSeek::HideAndSeek()
       {"tag_reward", 1.f},      {"end_on_tag", 1.f},
       {"tag_distance", 0.1f},   {"vision_range", drone::kDefaultVisionRange},
       {"vision_cone", drone::kDefaultConeDegrees},
+      {"hider_outside_chance", -1.f},
   };
   // SPEC section 8: chasing is dated in seeker steps, shelter in hider steps and only counts at
   // level 2 and above (level 1's single doorway is the curriculum's first lesson)
@@ -208,6 +210,10 @@ void HideAndSeek::build_episode() {
   s.tag_distance = drone::float_parameter(*this, "tag_distance", 0.0f, 2.0f);
   s.vision_range = drone::float_parameter(*this, "vision_range", 0.1f, 100.0f);
   s.vision_cone = drone::float_parameter(*this, "vision_cone", 1.0f, 360.0f);
+  // -1: the level's own (0 at levels 1 and 2, 0.5 at 3 and 4)
+  s.hider_outside_chance = parameter("hider_outside_chance") == -1.0f
+                               ? (level_ >= 3 ? 0.5f : 0.0f)
+                               : drone::float_parameter(*this, "hider_outside_chance", 0.0f, 1.0f);
   for (const char* name : {"hide_reward", "hide_reward_level4", "close_reward", "tagged_reward",
                            "seen_reward", "unseen_reward", "tag_reward"}) {
     if (!std::isfinite(parameter(name)))
@@ -283,7 +289,8 @@ void HideAndSeek::build_episode() {
       Region region = Region::kOutside;
       if (t == kHider) {
         region = Region::kRoom;
-        if (level_ >= 3 && uniform01(engine_) < 0.5) region = Region::kNearOutside;
+        if (s.hider_outside_chance > 0.0f && uniform01(engine_) < s.hider_outside_chance)
+          region = Region::kNearOutside;
       }
       const btVector3 p = planner.place(region, kDroneFootprint, kSpawnHeight);
       const float yaw = static_cast<float>(uniform(engine_, -kPi, kPi));

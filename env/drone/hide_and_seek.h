@@ -17,8 +17,9 @@
 // round(prep_fraction * episode_frames) frames (40%: 1228) are the prep phase, in which seekers are
 // frozen (zero linear and angular factors: they neither fly nor get pushed) but observe.
 //
-// Start (seeded): the arena of `level` (1-4; arena.h), hiders inside the room (levels 3 and 4: half
-// of them, on average, within 2.5 m outside it), seekers outside the room at least 2 m from its
+// Start (seeded): the arena of `level` (1-4; arena.h), hiders inside the room or, each with chance
+// `hider_outside_chance`, within 2.5 m outside it (-1, the default: the level's own chance, 0 at
+// levels 1 and 2 and 0.5 at levels 3 and 4), seekers outside the room at least 2 m from its
 // walls, all at 1 m height with random yaw; props per level: 1: one, next to doorway 0, parallel to
 // its wall; 2: two, in the room at least 2.5 m from every opening; 3: three anywhere in the room;
 // 4: four anywhere in the arena; random yaw from level 2 on. Obstacles (level 3: 3, level 4: 5) at

@@ -15,7 +15,7 @@
 // static box (faces buried in a neighbouring wall, a chunk's sides against the wall it plugs, wall
 // ends on the floor) or outside the static_keep box (the outer faces of the boundary walls, which
 // are always behind the inner faces). Dropping them changes no grid observation from inside the
-// arena (nearest wins) and saves time.
+// arena (the nearer wall points win the wall channel) and saves time.
 // Floor and ceiling: a static box whose vertical extent times slab_aspect is smaller than both
 // horizontal extents is a slab and is not detectable unless detect_slabs is set: a floor 1 m below
 // the drone would fill the whole lower hemisphere of a grid, and the vector observation already

@@ -73,7 +73,8 @@ TEST(HideAndSeekTest, ConformsAtEveryLevel) {
 
 TEST(HideAndSeekTest, BadParametersAreNamed) {
   for (const auto& [name, value] : std::vector<std::pair<std::string, float>>{
-           {"level", 5.f}, {"num_seekers", 0.f}, {"num_hiders", 2.5f}, {"prep_fraction", -1.f}}) {
+           {"level", 5.f}, {"num_seekers", 0.f}, {"num_hiders", 2.5f}, {"prep_fraction", -1.f},
+           {"hider_outside_chance", 1.5f}, {"hider_outside_chance", -0.5f}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
     SingleEnvHarness harness(env);
@@ -84,6 +85,39 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
       EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
     }
   }
+}
+
+// where hiders start: inside the room, or just outside it with chance hider_outside_chance (-1: the
+// level's own, 0 at levels 1-2 and 0.5 at 3-4)
+TEST(HideAndSeekTest, HiderOutsideChancePlacesHiders) {
+  const auto count_outside = [](float level, float chance) {
+    int outside = 0;
+    for (uint64_t seed = 1; seed <= 20; ++seed) {
+      Game g({{"level", level}, {"hider_outside_chance", chance}}, seed);
+      const drone::ArenaParams& ap = g.env.arena().params();
+      for (int h = 0; h < 2; ++h) {
+        const btVector3 p = g.env.agent(HideAndSeek::kHider, h).drone->position();
+        const float box = std::max(std::abs(p.x()), std::abs(p.z()));
+        const bool in_room = box < ap.room_half;
+        if (!in_room) {
+          ++outside;
+          EXPECT_LT(box, ap.room_half + 0.5f * ap.wall_thickness + 2.5f + 0.5f + 1e-4f)
+              << "a hider outside starts in the band 2.5 m (plus its 0.5 m footprint) around the room";
+        }
+      }
+    }
+    return outside;  // of 40 hiders
+  };
+  EXPECT_EQ(count_outside(1, -1), 0);
+  EXPECT_EQ(count_outside(2, -1), 0);
+  EXPECT_EQ(count_outside(1, 1), 40);
+  EXPECT_EQ(count_outside(4, 0), 0);
+  const int half = count_outside(2, 0.5f);
+  EXPECT_GT(half, 10);
+  EXPECT_LT(half, 30);
+  const int level_own = count_outside(3, -1);
+  EXPECT_GT(level_own, 10);
+  EXPECT_LT(level_own, 30);
 }
 
 TEST(HideAndSeekTest, SeekersDoNotMoveInThePrepPhase) {
