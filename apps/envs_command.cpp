@@ -57,7 +57,7 @@ int run_envs(const std::vector<std::string>& args) {
     for (const auto& s : spec.strategies) {
       std::cout << "  strategy " << s.name << ": " << s.metric << " over the last " << s.window
                 << " episodes > " << s.threshold << ", dated in " << s.behavior << " steps";
-      if (!s.min_parameter.empty()) std::cout << ", episodes with " << s.min_parameter << " >= " << s.min_value;
+      if (!s.conditions.empty()) std::cout << ", episodes with " << s.describe_conditions();
       std::cout << "\n";
     }
   }

@@ -22,6 +22,9 @@ constexpr int kSpawnAttempts = 2000;
 constexpr float kClosedCover = 0.5f;  // an opening is closed when more than half is covered
 
 // footprint radii used to keep spawns apart (m)
+// a prop standing in a doorway: its centre this far inside the wall's centre plane (the panel,
+// 0.2 m thick, clears the wall's inner face and covers the doorway for covered_fraction)
+constexpr float kInDoorway = 0.35f;
 constexpr float kDroneFootprint = 0.5f;
 constexpr float kPropFootprint = 0.85f;
 constexpr float kObstacleFootprint = 0.65f;
@@ -59,6 +62,7 @@ struct HideAndSeek::Settings {
   float vision_range = drone::kDefaultVisionRange;
   float vision_cone = drone::kDefaultConeDegrees;
   float hider_outside_chance = 0.0f;  // chance that a hider starts just outside the room
+  float prop_start_offset = 1.0f;     // levels 1-2: 0 = props start in the doorways, 1 = own place
 };
 
 namespace {
@@ -110,13 +114,14 @@ HideAndSeek::HideAndSeek()
       {"tag_reward", 1.f},      {"end_on_tag", 1.f},
       {"tag_distance", 0.1f},   {"vision_range", drone::kDefaultVisionRange},
       {"vision_cone", drone::kDefaultConeDegrees},
-      {"hider_outside_chance", -1.f},
+      {"hider_outside_chance", -1.f}, {"prop_start_offset", 1.f},
   };
   // SPEC section 8: chasing is dated in seeker steps, shelter in hider steps and only counts at
-  // level 2 and above (level 1's single doorway is the curriculum's first lesson)
+  // level 2 and above (level 1's single doorway is the curriculum's first lesson) with the props
+  // starting at their own places (prop_start_offset 1: not placed in the openings for the hiders)
   spec_.strategies = {
-      {"running_and_chasing", "tag_rate", "Seeker", 0.5f, 100, "", 0.f},
-      {"shelter", "fort_rate", "Hider", 0.5f, 100, "level", 2.f},
+      {"running_and_chasing", "tag_rate", "Seeker", 0.5f, 100, {}},
+      {"shelter", "fort_rate", "Hider", 0.5f, 100, {{"level", 2.f}, {"prop_start_offset", 1.f}}},
   };
   world_ = std::make_unique<drone::BulletWorld>();
 }
@@ -210,6 +215,7 @@ void HideAndSeek::build_episode() {
   s.tag_distance = drone::float_parameter(*this, "tag_distance", 0.0f, 2.0f);
   s.vision_range = drone::float_parameter(*this, "vision_range", 0.1f, 100.0f);
   s.vision_cone = drone::float_parameter(*this, "vision_cone", 1.0f, 360.0f);
+  s.prop_start_offset = drone::float_parameter(*this, "prop_start_offset", 0.0f, 1.0f);
   // -1: the level's own (0 at levels 1 and 2, 0.5 at 3 and 4)
   s.hider_outside_chance = parameter("hider_outside_chance") == -1.0f
                                ? (level_ >= 3 ? 0.5f : 0.0f)
@@ -238,11 +244,19 @@ void HideAndSeek::build_episode() {
   const float wall = 0.5f * arena_params.wall_thickness;
   const float inner = arena_params.room_half - wall;
   const int num_props = level_;
+  // levels 1 and 2, prop_start_offset t < 1: prop i starts the fraction t of the way from standing
+  // in doorway i (unlocked, covering it, parallel to its wall) to its own start place
+  const float t = s.prop_start_offset;
+  const auto in_doorway = [&](int i) {
+    const drone::Opening& door = openings[i];
+    return door.centre - door.normal * kInDoorway;
+  };
   if (level_ == 1) {
     // next to doorway 0, inside the room, parallel to its wall, beside the doorway
     const drone::Opening& door = openings[0];
     const btVector3 across = btVector3(0, 1, 0).cross(door.normal);
-    const btVector3 p = door.centre - door.normal * 1.2f + across * 1.6f;
+    btVector3 p = door.centre - door.normal * 1.2f + across * 1.6f;
+    if (t < 1.0f) p = in_doorway(0) + t * (p - in_doorway(0));
     props_->add(btVector3(p.x(), prop_y, p.z()), 0.0f);
     planner.take(p.x(), p.z(), kPropFootprint);
   } else {
@@ -258,6 +272,10 @@ void HideAndSeek::build_episode() {
             const btVector3 d = p - o.centre;
             far = far && (d.x() * d.x() + d.z() * d.z() >= 2.5f * 2.5f);
           }
+          if (t < 1.0f) {
+            const btVector3 q = in_doorway(i);
+            p = btVector3(q.x(), prop_y, q.z()) + t * (p - btVector3(q.x(), prop_y, q.z()));
+          }
           bool clear = true;
           for (int j = 0; j < props_->size(); ++j)
             clear = clear && (p - (*props_)[j].position()).length() > 2 * kPropFootprint;
@@ -268,7 +286,9 @@ void HideAndSeek::build_episode() {
       } else {
         p = planner.place(level_ == 3 ? Region::kRoom : Region::kAnywhere, kPropFootprint, prop_y);
       }
-      props_->add(p, static_cast<float>(uniform(engine_, -kPi, kPi)));
+      const float yaw = static_cast<float>(uniform(engine_, -kPi, kPi));
+      // a prop that starts towards its doorway is parallel to the doorway's wall (-z, +z: yaw 0)
+      props_->add(p, level_ == 2 && t < 1.0f ? 0.0f : yaw);
     }
   }
   const int num_obstacles = level_ == 3 ? 3 : level_ == 4 ? 5 : 0;

@@ -22,7 +22,10 @@
 // levels 1 and 2 and 0.5 at levels 3 and 4), seekers outside the room at least 2 m from its
 // walls, all at 1 m height with random yaw; props per level: 1: one, next to doorway 0, parallel to
 // its wall; 2: two, in the room at least 2.5 m from every opening; 3: three anywhere in the room;
-// 4: four anywhere in the arena; random yaw from level 2 on. Obstacles (level 3: 3, level 4: 5) at
+// 4: four anywhere in the arena; random yaw from level 2 on. At levels 1 and 2, `prop_start_offset`
+// t in [0, 1] (default 1) moves prop i the fraction t of the way from standing in doorway i
+// (unlocked, covering it, parallel to its wall: locking it closes the doorway) to that start, for
+// a curriculum that teaches locking before dragging; the shelter strategy counts only at t = 1. Obstacles (level 3: 3, level 4: 5) at
 // random free places on the floor. Every spawn keeps clear of walls and of earlier spawns.
 //
 // Seeing (each physics frame): seeker s sees hider h when sees(world, s, h) of vision.h (135-degree

@@ -61,9 +61,25 @@ struct StrategySpec {
   std::string behavior;  // whose steps date the emergence
   float threshold = 0.5f;
   int window = 100;      // episodes in the smoothed rate
-  // only episodes played with parameter `min_parameter` >= `min_value` count (empty: all)
-  std::string min_parameter;
-  float min_value = 0.f;
+  // only episodes played with every listed parameter at or above its value count (empty: all)
+  struct AtLeast {
+    std::string parameter;
+    float value = 0.f;
+  };
+  std::vector<AtLeast> conditions;
+
+  // "level >= 2 and prop_start_offset >= 1", or "" without conditions
+  std::string describe_conditions() const {
+    std::string out;
+    for (const AtLeast& c : conditions) {
+      if (!out.empty()) out += " and ";
+      std::string v = std::to_string(c.value);
+      v.erase(v.find_last_not_of('0') + 1);
+      if (!v.empty() && v.back() == '.') v.pop_back();
+      out += c.parameter + " >= " + v;
+    }
+    return out;
+  }
 };
 
 struct EnvSpec {

@@ -27,7 +27,9 @@ std::vector<int> StrategyTracker::add_episode(
     const StrategySpec& s = strategies_[i];
     auto m = metrics.find(s.metric);
     if (m == metrics.end()) continue;
-    if (!s.min_parameter.empty() && parameter(s.min_parameter) < s.min_value) continue;
+    bool counts = true;
+    for (const StrategySpec::AtLeast& c : s.conditions) counts = counts && parameter(c.parameter) >= c.value;
+    if (!counts) continue;
     auto& w = windows_[i];
     w.push_back(m->second);
     while (int(w.size()) > s.window) w.pop_front();

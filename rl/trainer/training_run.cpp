@@ -505,8 +505,7 @@ void TrainingRun::track_episodes(const std::vector<FinishedEpisode>& finished) {
       *log_ << std::fixed << std::setprecision(3) << "[" << e.behavior << "] Strategy " << e.strategy
             << " emerged at step " << e.step << " (" << std::setprecision(0) << e.elapsed_s
             << " s): " << s.metric << std::setprecision(3) << " " << e.rate << " over the last "
-            << s.window << " episodes" << (s.min_parameter.empty() ? "" : " with " + s.min_parameter +
-            " >= " + json_number(s.min_value)) << "." << std::endl;
+            << s.window << " episodes" << (s.conditions.empty() ? "" : " with " + s.describe_conditions()) << "." << std::endl;
       emerged_any = true;
     }
   }

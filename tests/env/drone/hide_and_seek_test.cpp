@@ -74,7 +74,8 @@ TEST(HideAndSeekTest, ConformsAtEveryLevel) {
 TEST(HideAndSeekTest, BadParametersAreNamed) {
   for (const auto& [name, value] : std::vector<std::pair<std::string, float>>{
            {"level", 5.f}, {"num_seekers", 0.f}, {"num_hiders", 2.5f}, {"prep_fraction", -1.f},
-           {"hider_outside_chance", 1.5f}, {"hider_outside_chance", -0.5f}}) {
+           {"hider_outside_chance", 1.5f}, {"hider_outside_chance", -0.5f},
+           {"prop_start_offset", 1.1f}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
     SingleEnvHarness harness(env);
@@ -118,6 +119,39 @@ TEST(HideAndSeekTest, HiderOutsideChancePlacesHiders) {
   const int level_own = count_outside(3, -1);
   EXPECT_GT(level_own, 10);
   EXPECT_LT(level_own, 30);
+}
+
+// prop_start_offset 0: the props of levels 1 and 2 stand in their doorways, and locking them closes
+// the doorways; 1 (the default) leaves them at their own places; 0.5 half way
+TEST(HideAndSeekTest, PropStartOffsetMovesPropsTowardsTheirDoorways) {
+  for (float level : {1.f, 2.f}) {
+    Game own({{"level", level}}, 3);
+    Game half({{"level", level}, {"prop_start_offset", 0.5f}}, 3);
+    Game in({{"level", level}, {"prop_start_offset", 0.f}}, 3);
+    for (int i = 0; i < int(level); ++i) {
+      const drone::Opening& door = in.env.arena().openings()[i];
+      const btVector3 p = in.env.props()[i].position();
+      EXPECT_NEAR(std::hypot(p.x() - door.centre.x(), p.z() - door.centre.z()), 0.35f, 0.02f);
+      EXPECT_FALSE(in.env.opening_closed(i));  // not locked yet
+      const btVector3 far = own.env.props()[i].position();
+      EXPECT_GT(std::hypot(far.x() - door.centre.x(), far.z() - door.centre.z()), 1.5f);
+      const btVector3 mid = half.env.props()[i].position();
+      const btVector3 expect = 0.5f * (p + far);
+      EXPECT_NEAR(mid.x(), expect.x(), 0.02f);
+      EXPECT_NEAR(mid.z(), expect.z(), 0.02f);
+    }
+    // a hider in front of each prop locks it where it stands: the doorways close
+    auto& hider = *in.env.agent(HideAndSeek::kHider, 0).drone;
+    for (int i = 0; i < int(level); ++i) {
+      const btVector3 n = in.env.arena().openings()[i].normal;
+      btTransform pose = hider.body().getWorldTransform();
+      pose.setOrigin(in.env.props()[i].position() - n * 1.0f + btVector3(0, 0.2f, 0));
+      pose.setRotation(btQuaternion(btVector3(0, 1, 0), std::atan2(n.x(), n.z())));
+      hider.body().setWorldTransform(pose);
+      ASSERT_EQ(in.env.props().lock(hider, HideAndSeek::kHider), i) << "level " << level;
+    }
+    EXPECT_EQ(in.env.count_closed(), int(level)) << "level " << level;
+  }
 }
 
 TEST(HideAndSeekTest, SeekersDoNotMoveInThePrepPhase) {

@@ -7,8 +7,8 @@
 namespace rlt {
 namespace {
 
-StrategySpec chase() { return {"chase", "tag_rate", "Seeker", 0.5f, 4, "", 0.f}; }
-StrategySpec shelter() { return {"shelter", "fort_rate", "Hider", 0.5f, 2, "level", 2.f}; }
+StrategySpec chase() { return {"chase", "tag_rate", "Seeker", 0.5f, 4, {}}; }
+StrategySpec shelter() { return {"shelter", "fort_rate", "Hider", 0.5f, 2, {{"level", 2.f}}}; }
 
 TEST(StrategyTrackerTest, EmergesWhenTheWindowMeanCrossesTheThreshold) {
   StrategyTracker tracker({chase()});
@@ -51,6 +51,25 @@ TEST(StrategyTrackerTest, OnlyEpisodesMeetingTheConditionCount) {
   ASSERT_EQ(e.size(), 1u);
   EXPECT_EQ(tracker.emergences()[0].step, 11);
   EXPECT_DOUBLE_EQ(tracker.emergences()[0].elapsed_s, 5.0);
+}
+
+TEST(StrategyTrackerTest, EveryConditionMustHold) {
+  StrategySpec spec = shelter();
+  spec.conditions.push_back({"prop_start_offset", 1.f});
+  EXPECT_EQ(spec.describe_conditions(), "level >= 2 and prop_start_offset >= 1");
+  StrategyTracker tracker({spec});
+  std::map<std::string, float> values = {{"level", 3.f}, {"prop_start_offset", 0.5f}};
+  auto parameter = [&](const std::string& name) { return values.at(name); };
+  for (int i = 0; i < 5; ++i)  // level 3 but props started half way: no count
+    EXPECT_TRUE(tracker.add_episode({{"fort_rate", 1.f}}, parameter, {{"Hider", i}}, 0).empty());
+  values["prop_start_offset"] = 1.f;
+  values["level"] = 1.f;  // full offset but level 1: no count either
+  EXPECT_TRUE(tracker.add_episode({{"fort_rate", 1.f}}, parameter, {{"Hider", 6}}, 0).empty());
+  EXPECT_DOUBLE_EQ(tracker.rate(0), 0.0);
+  values["level"] = 2.f;
+  EXPECT_TRUE(tracker.add_episode({{"fort_rate", 1.f}}, parameter, {{"Hider", 7}}, 0).empty());
+  ASSERT_EQ(tracker.add_episode({{"fort_rate", 1.f}}, parameter, {{"Hider", 8}}, 0).size(), 1u);
+  EXPECT_EQ(tracker.emergences()[0].step, 8);
 }
 
 TEST(StrategyTrackerTest, EpisodesWithoutTheMetricAreIgnoredAndWindowsRoundTrip) {
