@@ -2,7 +2,8 @@
 # RQ2: how many steps until running-and-chasing and until shelter emerge? Trains the default
 # configuration (STEPS per behavior, default its own max_steps) for every seed in SEEDS and reads
 # the emergence steps the run recorded (training_status.json: the first step where the rate over
-# the last 100 episodes exceeds 0.5; shelter counts episodes at level 2 and above). Writes
+# the last 100 episodes exceeds 0.5; shelter counts episodes at level 2 and above with the props
+# starting at their own places). Writes
 # docs/results/rq2_emergence.md with the paper's and OpenAI's figures next to ours.
 source "$(dirname "$0")/common.sh"
 ensure_built
