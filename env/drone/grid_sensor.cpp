@@ -172,7 +172,8 @@ void GridSensor::observe_many(const GridSensor* const* sensors, float* const* ou
       const std::int32_t column = std::min(static_cast<std::int32_t>(column_f), columns - 1);
       // & rather than &&: no branches in the loop
       const bool seen = (lat[i] <= lat_high) & (lat[i] >= lat_low) & (lon[i] <= lon_limit) &
-                        (lon[i] >= -lon_limit) & (distance2[i] <= max_distance2);
+                        (lon[i] >= -lon_limit) & (distance2[i] <= max_distance2) &
+                        (tag[i] >= 0) & (tag[i] < kNumTags);  // untagged bodies are not sensed
       slot[i] = seen ? (row * columns + column) * kNumTags + tag[i] : unseen;
     }
     if (self_body >= 0) {

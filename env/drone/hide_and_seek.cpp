@@ -217,9 +217,11 @@ void HideAndSeek::build_episode() {
   s.vision_cone = drone::float_parameter(*this, "vision_cone", 1.0f, 360.0f);
   s.prop_start_offset = drone::float_parameter(*this, "prop_start_offset", 0.0f, 1.0f);
   // -1: the level's own (0 at levels 1 and 2, 0.5 at 3 and 4)
-  s.hider_outside_chance = parameter("hider_outside_chance") == -1.0f
-                               ? (level_ >= 3 ? 0.5f : 0.0f)
-                               : drone::float_parameter(*this, "hider_outside_chance", 0.0f, 1.0f);
+  const float outside = parameter("hider_outside_chance");
+  if (outside != -1.0f && !(outside >= 0.0f && outside <= 1.0f))
+    throw std::invalid_argument("HideAndSeek: parameter hider_outside_chance must be -1 (the "
+                                "level's own) or in [0, 1], got " + std::to_string(outside));
+  s.hider_outside_chance = outside == -1.0f ? (level_ >= 3 ? 0.5f : 0.0f) : outside;
   for (const char* name : {"hide_reward", "hide_reward_level4", "close_reward", "tagged_reward",
                            "seen_reward", "unseen_reward", "tag_reward"}) {
     if (!std::isfinite(parameter(name)))
@@ -246,7 +248,7 @@ void HideAndSeek::build_episode() {
   const int num_props = level_;
   // levels 1 and 2, prop_start_offset t < 1: prop i starts the fraction t of the way from standing
   // in doorway i (unlocked, covering it, parallel to its wall) to its own start place
-  const float t = s.prop_start_offset;
+  const float offset = s.prop_start_offset;
   const auto in_doorway = [&](int i) {
     const drone::Opening& door = openings[i];
     return door.centre - door.normal * kInDoorway;
@@ -256,7 +258,7 @@ void HideAndSeek::build_episode() {
     const drone::Opening& door = openings[0];
     const btVector3 across = btVector3(0, 1, 0).cross(door.normal);
     btVector3 p = door.centre - door.normal * 1.2f + across * 1.6f;
-    if (t < 1.0f) p = in_doorway(0) + t * (p - in_doorway(0));
+    if (offset < 1.0f) p = in_doorway(0) + offset * (p - in_doorway(0));
     props_->add(btVector3(p.x(), prop_y, p.z()), 0.0f);
     planner.take(p.x(), p.z(), kPropFootprint);
   } else {
@@ -272,9 +274,9 @@ void HideAndSeek::build_episode() {
             const btVector3 d = p - o.centre;
             far = far && (d.x() * d.x() + d.z() * d.z() >= 2.5f * 2.5f);
           }
-          if (t < 1.0f) {
+          if (offset < 1.0f) {
             const btVector3 q = in_doorway(i);
-            p = btVector3(q.x(), prop_y, q.z()) + t * (p - btVector3(q.x(), prop_y, q.z()));
+            p = btVector3(q.x(), prop_y, q.z()) + offset * (p - btVector3(q.x(), prop_y, q.z()));
           }
           bool clear = true;
           for (int j = 0; j < props_->size(); ++j)
@@ -286,9 +288,14 @@ void HideAndSeek::build_episode() {
       } else {
         p = planner.place(level_ == 3 ? Region::kRoom : Region::kAnywhere, kPropFootprint, prop_y);
       }
-      const float yaw = static_cast<float>(uniform(engine_, -kPi, kPi));
-      // a prop that starts towards its doorway is parallel to the doorway's wall (-z, +z: yaw 0)
-      props_->add(p, level_ == 2 && t < 1.0f ? 0.0f : yaw);
+      float yaw = static_cast<float>(uniform(engine_, -kPi, kPi));
+      if (level_ == 2 && offset < 1.0f) {
+        // turned the same fraction of the way from parallel to the doorway's wall (-z, +z: yaw
+        // 0) to its own yaw, the short way round (a panel turned by pi is the same panel)
+        const float half_turn = yaw - kPi * std::round(yaw / kPi);  // in [-pi/2, pi/2]
+        yaw = offset * half_turn;
+      }
+      props_->add(p, yaw);
     }
   }
   const int num_obstacles = level_ == 3 ? 3 : level_ == 4 ? 5 : 0;
@@ -713,7 +720,9 @@ EpisodeMetrics HideAndSeek::episode_metrics() const {
           {"hidden_fraction", hidden_frames_ / test},
           {"fort_rate", fort_ ? 1.0f : 0.0f},
           {"openings_closed", static_cast<float>(closed_at_prep_end_)},
-          {"tagged", static_cast<float>(tagged_)}};
+          {"tagged", static_cast<float>(tagged_)},
+          // the offset the props started at: the parameter acts at levels 1 and 2 only
+          {"prop_start_offset", level_ <= 2 ? settings_->prop_start_offset : 1.0f}};
 }
 
 bool HideAndSeek::write_scripted_actions(int behavior, BehaviorView& view) {

@@ -25,7 +25,10 @@
 // 4: four anywhere in the arena; random yaw from level 2 on. At levels 1 and 2, `prop_start_offset`
 // t in [0, 1] (default 1) moves prop i the fraction t of the way from standing in doorway i
 // (unlocked, covering it, parallel to its wall: locking it closes the doorway) to that start, for
-// a curriculum that teaches locking before dragging; the shelter strategy counts only at t = 1. Obstacles (level 3: 3, level 4: 5) at
+// a curriculum that teaches locking before dragging (level 2: the prop's yaw turns the same fraction
+// of the way from parallel to the wall to its random yaw); the shelter strategy counts only
+// episodes whose props started at their own places (metric prop_start_offset 1: t = 1, or level 3
+// or 4, where the parameter does nothing). Obstacles (level 3: 3, level 4: 5) at
 // random free places on the floor. Every spawn keeps clear of walls and of earlier spawns.
 //
 // Seeing (each physics frame): seeker s sees hider h when sees(world, s, h) of vision.h (135-degree
@@ -68,7 +71,8 @@
 // Metrics of an episode (SPEC section 8): tag_rate (1 when a hider was tagged), seen_fraction
 // (share of test-phase frames in which some hider was seen), fort_rate (1 when every open opening
 // was closed at the end of the prep phase), openings_closed (how many then), hidden_fraction (share
-// of test-phase frames in which every hider in the game was hidden) and tagged (count).
+// of test-phase frames in which every hider in the game was hidden), tagged (count) and
+// prop_start_offset (the offset the props started at: the parameter at levels 1-2, else 1).
 // Recording (set_recording): every body of the world with its pose at every frame, and the events
 // grab, release, lock, unlock (body: the hider, other: the prop), tag (body: the hider), closed
 // (other: the opening's index, 0-3 as in arena.h) and prep_end.

@@ -61,7 +61,9 @@ struct StrategySpec {
   std::string behavior;  // whose steps date the emergence
   float threshold = 0.5f;
   int window = 100;      // episodes in the smoothed rate
-  // only episodes played with every listed parameter at or above its value count (empty: all)
+  // only episodes in which every listed value is at or above its bound count (empty: all); a
+  // value is the episode's metric of that name when the env reports one, else its parameter
+  // (a metric can say what a parameter did, e.g. nothing at some levels)
   struct AtLeast {
     std::string parameter;
     float value = 0.f;

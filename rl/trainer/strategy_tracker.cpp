@@ -28,7 +28,11 @@ std::vector<int> StrategyTracker::add_episode(
     auto m = metrics.find(s.metric);
     if (m == metrics.end()) continue;
     bool counts = true;
-    for (const StrategySpec::AtLeast& c : s.conditions) counts = counts && parameter(c.parameter) >= c.value;
+    for (const StrategySpec::AtLeast& c : s.conditions) {
+      auto reported = metrics.find(c.parameter);
+      const float value = reported != metrics.end() ? reported->second : parameter(c.parameter);
+      counts = counts && value >= c.value;
+    }
     if (!counts) continue;
     auto& w = windows_[i];
     w.push_back(m->second);

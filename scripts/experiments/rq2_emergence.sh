@@ -36,7 +36,7 @@ for seed in $SEEDS; do
     "$episodes|Seeker_step|seen_fraction|seen fraction"
   plot "$REPORTS/rq2_shelter_s$seed.png" "RQ2: shelter, seed $seed" "hider steps" "rate" \
     "$episodes|Hider_step|fort_rate|fort rate (per summary, any level)" \
-    "$episodes|Hider_step|smoothed_fort_rate_shelter|fort rate at level >= 2, last 100 episodes" \
+    "$episodes|Hider_step|smoothed_fort_rate_shelter|fort rate at level >= 2, props at their places, last 100 episodes" \
     "$episodes|Hider_step|hidden_fraction|hidden fraction" \
     "$episodes|Hider_step|lesson_level|lesson (0 = level 1)"
   {

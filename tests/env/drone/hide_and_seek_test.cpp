@@ -132,7 +132,8 @@ TEST(HideAndSeekTest, PropStartOffsetMovesPropsTowardsTheirDoorways) {
       const drone::Opening& door = in.env.arena().openings()[i];
       const btVector3 p = in.env.props()[i].position();
       EXPECT_NEAR(std::hypot(p.x() - door.centre.x(), p.z() - door.centre.z()), 0.35f, 0.02f);
-      EXPECT_FALSE(in.env.opening_closed(i));  // not locked yet
+      EXPECT_GT(drone::covered_fraction(door, *in.env.props()[i].body), 0.5f);  // covers it
+      EXPECT_FALSE(in.env.props()[i].locked());
       const btVector3 far = own.env.props()[i].position();
       EXPECT_GT(std::hypot(far.x() - door.centre.x(), far.z() - door.centre.z()), 1.5f);
       const btVector3 mid = half.env.props()[i].position();
@@ -151,6 +152,24 @@ TEST(HideAndSeekTest, PropStartOffsetMovesPropsTowardsTheirDoorways) {
       ASSERT_EQ(in.env.props().lock(hider, HideAndSeek::kHider), i) << "level " << level;
     }
     EXPECT_EQ(in.env.count_closed(), int(level)) << "level " << level;
+    EXPECT_FLOAT_EQ(in.env.episode_metrics().at("prop_start_offset"), 0.0f);
+    EXPECT_FLOAT_EQ(own.env.episode_metrics().at("prop_start_offset"), 1.0f);
+  }
+  // level 2: the yaw turns with the offset, from parallel to the wall (0) to the prop's own yaw
+  {
+    Game own({{"level", 2.f}}, 3), half({{"level", 2.f}, {"prop_start_offset", 0.5f}}, 3);
+    const auto yaw_of = [](const drone::Prop& p) {  // about +y: x axis = (cos, 0, -sin)
+      const btVector3 x = p.body->getWorldTransform().getBasis().getColumn(0);
+      return static_cast<float>(std::atan2(-x.z(), x.x()));
+    };
+    float own_yaw = yaw_of(own.env.props()[0]);
+    own_yaw -= 3.14159265f * std::round(own_yaw / 3.14159265f);
+    EXPECT_NEAR(yaw_of(half.env.props()[0]), 0.5f * own_yaw, 1e-3f);
+  }
+  // levels 3 and 4 ignore the parameter and say so in the metric
+  {
+    Game g({{"level", 3.f}, {"prop_start_offset", 0.f}}, 3);
+    EXPECT_FLOAT_EQ(g.env.episode_metrics().at("prop_start_offset"), 1.0f);
   }
 }
 

@@ -72,6 +72,22 @@ TEST(StrategyTrackerTest, EveryConditionMustHold) {
   EXPECT_EQ(tracker.emergences()[0].step, 8);
 }
 
+// a metric of the condition's name wins over the parameter (the env says what the parameter did)
+TEST(StrategyTrackerTest, AConditionReadsTheEpisodesMetricFirst) {
+  StrategySpec spec = shelter();
+  spec.conditions.push_back({"prop_start_offset", 1.f});
+  StrategyTracker tracker({spec});
+  std::map<std::string, float> values = {{"level", 3.f}, {"prop_start_offset", 0.5f}};
+  auto parameter = [&](const std::string& name) { return values.at(name); };
+  // the parameter is 0.5 but the env reports that the props started at their places
+  tracker.add_episode({{"fort_rate", 1.f}, {"prop_start_offset", 1.f}}, parameter, {{"Hider", 1}}, 0);
+  EXPECT_DOUBLE_EQ(tracker.rate(0), 1.0);
+  // and the other way round: a parameter of 1 with a reported 0.2 does not count
+  values["prop_start_offset"] = 1.f;
+  tracker.add_episode({{"fort_rate", 0.f}, {"prop_start_offset", 0.2f}}, parameter, {{"Hider", 2}}, 0);
+  EXPECT_DOUBLE_EQ(tracker.rate(0), 1.0);
+}
+
 TEST(StrategyTrackerTest, EpisodesWithoutTheMetricAreIgnoredAndWindowsRoundTrip) {
   StrategyTracker tracker({chase(), shelter()});
   auto level = [](const std::string&) { return 3.f; };
