@@ -34,11 +34,12 @@ thread_local Scratch scratch;
 // the projection kernel over raw arrays of n points (kept out of line: GCC 12 vectorizes it here
 // but not when inlined into project()); (ox, oy, oz) the origin, (fx, 0, fz) the unit forward and
 // right = forward x up = (-fz, 0, fx)
-__attribute__((noinline)) void project_kernel(
-    int n, const float* __restrict px, const float* __restrict py, const float* __restrict pz,
-    float ox, float oy, float oz, float fx, float fz,
-    float* __restrict lat, float* __restrict lon, float* __restrict distance2,
-    std::uint32_t* __restrict key) {
+__attribute__((noinline)) void project_kernel(int n, const float* __restrict px,
+                                              const float* __restrict py,
+                                              const float* __restrict pz, float ox, float oy,
+                                              float oz, float fx, float fz, float* __restrict lat,
+                                              float* __restrict lon, float* __restrict distance2,
+                                              std::uint32_t* __restrict key) {
   for (int i = 0; i < n; ++i) {
     const float dx = px[i] - ox, dy = py[i] - oy, dz = pz[i] - oz;
     const float right = fz * -dx + fx * dz;
@@ -71,9 +72,8 @@ void project(const SurfacePoints& points, const btTransform& pose, Scratch& s) {
     fz = 1.0f;
   }
   const btVector3& origin = pose.getOrigin();
-  project_kernel(n, points.x(), points.y(), points.z(), origin.x(), origin.y(),
-                 origin.z(), fx, fz, s.lat.data(), s.lon.data(), s.distance2.data(),
-                 s.key.data());
+  project_kernel(n, points.x(), points.y(), points.z(), origin.x(), origin.y(), origin.z(), fx, fz,
+                 s.lat.data(), s.lon.data(), s.distance2.data(), s.key.data());
 }
 
 }  // namespace
@@ -172,8 +172,8 @@ void GridSensor::observe_many(const GridSensor* const* sensors, float* const* ou
       const std::int32_t column = std::min(static_cast<std::int32_t>(column_f), columns - 1);
       // & rather than &&: no branches in the loop
       const bool seen = (lat[i] <= lat_high) & (lat[i] >= lat_low) & (lon[i] <= lon_limit) &
-                        (lon[i] >= -lon_limit) & (distance2[i] <= max_distance2) &
-                        (tag[i] >= 0) & (tag[i] < kNumTags);  // untagged bodies are not sensed
+                        (lon[i] >= -lon_limit) & (distance2[i] <= max_distance2) & (tag[i] >= 0) &
+                        (tag[i] < kNumTags);  // untagged bodies are not sensed
       slot[i] = seen ? (row * columns + column) * kNumTags + tag[i] : unseen;
     }
     if (self_body >= 0) {

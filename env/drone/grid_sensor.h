@@ -1,7 +1,7 @@
-// GridSensor: the spherical grid sensor of the paper (SPEC.md section 6, "spatial grid" and "frontal
-// grid"), after MBaske's Unity Grid Sensors (the spatial and frontal GridSensorComponent3D): cells in
-// latitude and longitude around the agent, one channel per Tag, filled from SurfacePoints (points
-// scanned on the colliders), not from per-cell raycasts.
+// GridSensor: the spherical grid sensor of the paper (SPEC.md section 6, "spatial grid" and
+// "frontal grid"), after MBaske's Unity Grid Sensors (the spatial and frontal
+// GridSensorComponent3D): cells in latitude and longitude around the agent, one channel per Tag,
+// filled from SurfacePoints (points scanned on the colliders), not from per-cell raycasts.
 //
 // Frame (yaw only: the drone is upright): forward = the pose's +z turned into the horizontal plane,
 // right = forward x up (as in DroneBody), up = +y. For a point at offset v from the pose's origin:
@@ -13,8 +13,8 @@
 // equal rows and the longitude range [-lon, +lon] into lon_cells = round(range / arc) equal columns
 // (at least 1 each; the actual arcs are lat_arc_degrees() and lon_arc_degrees()).
 // Output order, row-major [lat_cells, lon_cells, kNumTags] floats like an image of the view:
-//   row 0 = northmost (up), rows go down; column 0 = leftmost (lon = -lon_degrees), columns go right;
-//   channel = Tag (kWall, kProp, kObstacle, kHider, kSeeker).
+//   row 0 = northmost (up), rows go down; column 0 = leftmost (lon = -lon_degrees), columns go
+//   right; channel = Tag (kWall, kProp, kObstacle, kHider, kSeeker).
 // A point counts when d <= max_distance and its direction is inside both ranges (edges included).
 // Nearest wins within each tag's channel, as in MBaske's GridSensorComponent3D (the sensor the
 // paper used): each channel of a cell holds
@@ -27,10 +27,10 @@
 // The observing body's own points (self_body, an index of SurfacePoints::body; -1 for none) are
 // skipped.
 // Cost: one vectorizable pass over the structure-of-arrays points (relative offset, yaw rotation,
-// squared distance, fast_atan2 twice, sqrt), shared by every sensor of one observe_many() call, then
-// per sensor a vectorizable (cell, tag) slot pass and a scalar nearest-wins scatter of distance keys
-// into four interleaved banks (no store-to-load chains between neighbours).
-// observe() and observe_many() are const and thread-safe (scratch space is per thread).
+// squared distance, fast_atan2 twice, sqrt), shared by every sensor of one observe_many() call,
+// then per sensor a vectorizable (cell, tag) slot pass and a scalar nearest-wins scatter of
+// distance keys into four interleaved banks (no store-to-load chains between neighbours). observe()
+// and observe_many() are const and thread-safe (scratch space is per thread).
 #ifndef RLT_ENV_DRONE_GRID_SENSOR_H_
 #define RLT_ENV_DRONE_GRID_SENSOR_H_
 

@@ -103,18 +103,27 @@ HideAndSeek::HideAndSeek()
   spec_.behaviors = {hider, seeker};
   spec_.max_episode_steps = kMaxEpisodeFrames;  // decision_period 1
   spec_.default_parameters = {
-      {"level", 1.f},           {"num_hiders", 2.f},
-      {"num_seekers", 2.f},     {"episode_frames", 3072.f},
-      {"decision_period", 3.f}, {"prep_fraction", 0.4f},
-      {"reward_preset", 0.f},   {"hide_reward", 0.001f},
+      {"level", 1.f},
+      {"num_hiders", 2.f},
+      {"num_seekers", 2.f},
+      {"episode_frames", 3072.f},
+      {"decision_period", 3.f},
+      {"prep_fraction", 0.4f},
+      {"reward_preset", 0.f},
+      {"hide_reward", 0.001f},
       {"hide_reward_level4", 0.0005f},
-      {"close_reward", 0.1f},   {"tagged_reward", -1.f},
-      {"seen_reward", 0.001f},  {"unseen_reward", 0.f},
+      {"close_reward", 0.1f},
+      {"tagged_reward", -1.f},
+      {"seen_reward", 0.001f},
+      {"unseen_reward", 0.f},
       {"assault_weighting", 0.f},
-      {"tag_reward", 1.f},      {"end_on_tag", 1.f},
-      {"tag_distance", 0.1f},   {"vision_range", drone::kDefaultVisionRange},
+      {"tag_reward", 1.f},
+      {"end_on_tag", 1.f},
+      {"tag_distance", 0.1f},
+      {"vision_range", drone::kDefaultVisionRange},
       {"vision_cone", drone::kDefaultConeDegrees},
-      {"hider_outside_chance", -1.f}, {"prop_start_offset", 1.f},
+      {"hider_outside_chance", -1.f},
+      {"prop_start_offset", 1.f},
   };
   // SPEC section 8: chasing is dated in seeker steps, shelter in hider steps and only counts at
   // level 2 and above (level 1's single doorway is the curriculum's first lesson) with the props
@@ -219,8 +228,10 @@ void HideAndSeek::build_episode() {
   // -1: the level's own (0 at levels 1 and 2, 0.5 at 3 and 4)
   const float outside = parameter("hider_outside_chance");
   if (outside != -1.0f && !(outside >= 0.0f && outside <= 1.0f))
-    throw std::invalid_argument("HideAndSeek: parameter hider_outside_chance must be -1 (the "
-                                "level's own) or in [0, 1], got " + std::to_string(outside));
+    throw std::invalid_argument(
+        "HideAndSeek: parameter hider_outside_chance must be -1 (the "
+        "level's own) or in [0, 1], got " +
+        std::to_string(outside));
   s.hider_outside_chance = outside == -1.0f ? (level_ >= 3 ? 0.5f : 0.0f) : outside;
   for (const char* name : {"hide_reward", "hide_reward_level4", "close_reward", "tagged_reward",
                            "seen_reward", "unseen_reward", "tag_reward"}) {

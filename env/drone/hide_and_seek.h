@@ -1,16 +1,16 @@
 // HideAndSeek: drones that hide and seek in a Bullet world with a room, props and obstacles
-// (SPEC.md section 6; metrics of section 8). Built from the drone pieces of env/drone/: BulletWorld,
-// Arena, DroneBody, PropSet and obstacles, RaySensor, vision (sees, assault_horizon).
+// (SPEC.md section 6; metrics of section 8). Built from the drone pieces of env/drone/:
+// BulletWorld, Arena, DroneBody, PropSet and obstacles, RaySensor, vision (sees, assault_horizon).
 //
 // Behaviors: "Hider" (2 slots, group 0, agent id = slot) and "Seeker" (4 slots, group 1, agent id =
-// 2 + slot); `num_hiders` (1-2) and `num_seekers` (1-4) pick how many are used, the other slots stay
-// kAbsent. Both have the same action spec:
+// 2 + slot); `num_hiders` (1-2) and `num_seekers` (1-4) pick how many are used, the other slots
+// stay kAbsent. Both have the same action spec:
 //   continuous 4 in [-1, 1]: forward thrust, strafe (to the right), vertical thrust, yaw rate;
 //   discrete branch "grab" {0 release, 1 hold}, branch "lock" {0 none, 1 lock, 2 unlock}.
 // Seekers cannot grab or lock: their masks allow only option 0 of both branches (1 = allowed), and
 // the env ignores a forbidden option. Grab and lock act once, at the start of a decision (PropSet
-// rules: reach 1.5 m, a 60-degree front cone; hold keeps a held prop; a hider that locks the prop it
-// holds lets go of it; only the locking team may unlock).
+// rules: reach 1.5 m, a 60-degree front cone; hold keeps a held prop; a hider that locks the prop
+// it holds lets go of it; only the locking team may unlock).
 //
 // Time: physics at 50 Hz; an agent decides every `decision_period` (3) frames and its thrust is
 // repeated for those frames. An episode lasts at most `episode_frames` (3072) frames; the first
@@ -25,11 +25,11 @@
 // 4: four anywhere in the arena; random yaw from level 2 on. At levels 1 and 2, `prop_start_offset`
 // t in [0, 1] (default 1) moves prop i the fraction t of the way from standing in doorway i
 // (unlocked, covering it, parallel to its wall: locking it closes the doorway) to that start, for
-// a curriculum that teaches locking before dragging (level 2: the prop's yaw turns the same fraction
-// of the way from parallel to the wall to its random yaw); the shelter strategy counts only
-// episodes whose props started at their own places (metric prop_start_offset 1: t = 1, or level 3
-// or 4, where the parameter does nothing). Obstacles (level 3: 3, level 4: 5) at
-// random free places on the floor. Every spawn keeps clear of walls and of earlier spawns.
+// a curriculum that teaches locking before dragging (level 2: the prop's yaw turns the same
+// fraction of the way from parallel to the wall to its random yaw); the shelter strategy counts
+// only episodes whose props started at their own places (metric prop_start_offset 1: t = 1, or
+// level 3 or 4, where the parameter does nothing). Obstacles (level 3: 3, level 4: 5) at random
+// free places on the floor. Every spawn keeps clear of walls and of earlier spawns.
 //
 // Seeing (each physics frame): seeker s sees hider h when sees(world, s, h) of vision.h (135-degree
 // cone, `vision_range` 20 m, unobstructed line of sight). A hider is hidden when no seeker sees it.

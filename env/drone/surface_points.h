@@ -1,6 +1,6 @@
-// SurfacePoints: a point cloud sampled on the surfaces of the colliders of a Bullet world, the input
-// of the grid sensors (grid_sensor.h; SPEC.md section 6, "spatial grid" and "frontal grid"). It
-// follows the detection scheme of MBaske's Unity Grid Sensors: objects are not found by per-cell
+// SurfacePoints: a point cloud sampled on the surfaces of the colliders of a Bullet world, the
+// input of the grid sensors (grid_sensor.h; SPEC.md section 6, "spatial grid" and "frontal grid").
+// It follows the detection scheme of MBaske's Unity Grid Sensors: objects are not found by per-cell
 // raycasts but by points scanned on their colliders at a fixed resolution.
 //
 // Sampling (metres, world frame, y up):

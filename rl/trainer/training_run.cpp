@@ -502,10 +502,11 @@ void TrainingRun::track_episodes(const std::vector<FinishedEpisode>& finished) {
       const Emergence& e = strategies_.emergences()[i];
       const StrategySpec& s = strategies_.strategies()[i];
       if (options_.progress && isatty(2)) std::cerr << "\r\033[K";
-      *log_ << std::fixed << std::setprecision(3) << "[" << e.behavior << "] Strategy " << e.strategy
-            << " emerged at step " << e.step << " (" << std::setprecision(0) << e.elapsed_s
-            << " s): " << s.metric << std::setprecision(3) << " " << e.rate << " over the last "
-            << s.window << " episodes" << (s.conditions.empty() ? "" : " with " + s.describe_conditions()) << "." << std::endl;
+      *log_ << std::fixed << std::setprecision(3) << "[" << e.behavior << "] Strategy "
+            << e.strategy << " emerged at step " << e.step << " (" << std::setprecision(0)
+            << e.elapsed_s << " s): " << s.metric << std::setprecision(3) << " " << e.rate
+            << " over the last " << s.window << " episodes"
+            << (s.conditions.empty() ? "" : " with " + s.describe_conditions()) << "." << std::endl;
       emerged_any = true;
     }
   }

@@ -1,7 +1,7 @@
 // GridSensor: hand-built scenes with known answers (a hider at a known direction and distance, out
-// of range, nearest wins within each channel, own body, behind the drone, yaw), equivalence with a naive reference
-// using std::atan2 / std::asin on random scenes, fast_atan2 against std::atan2, and the cost of
-// both presets on a hide-and-seek scene (printed, not asserted).
+// of range, nearest wins within each channel, own body, behind the drone, yaw), equivalence with a
+// naive reference using std::atan2 / std::asin on random scenes, fast_atan2 against std::atan2, and
+// the cost of both presets on a hide-and-seek scene (printed, not asserted).
 #include "env/drone/grid_sensor.h"
 
 #include <gtest/gtest.h>
@@ -239,9 +239,8 @@ std::vector<float> reference(const GridSensor& sensor, const SurfacePoints& poin
   std::vector<float> out(sensor.size(), 0.0f);
   for (int k = 0; k < sensor.size(); ++k) {
     if (nearest[k] > 1e29f) continue;
-    const float linear =
-        1.0f - (std::max(nearest[k], p.min_distance) - p.min_distance) /
-                   (p.max_distance - p.min_distance);
+    const float linear = 1.0f - (std::max(nearest[k], p.min_distance) - p.min_distance) /
+                                    (p.max_distance - p.min_distance);
     out[k] = std::pow(std::clamp(linear, 0.0f, 1.0f), p.normalization);
   }
   return out;

@@ -72,10 +72,14 @@ TEST(HideAndSeekTest, ConformsAtEveryLevel) {
 }
 
 TEST(HideAndSeekTest, BadParametersAreNamed) {
-  for (const auto& [name, value] : std::vector<std::pair<std::string, float>>{
-           {"level", 5.f}, {"num_seekers", 0.f}, {"num_hiders", 2.5f}, {"prep_fraction", -1.f},
-           {"hider_outside_chance", 1.5f}, {"hider_outside_chance", -0.5f},
-           {"prop_start_offset", 1.1f}}) {
+  for (const auto& [name, value] :
+       std::vector<std::pair<std::string, float>>{{"level", 5.f},
+                                                  {"num_seekers", 0.f},
+                                                  {"num_hiders", 2.5f},
+                                                  {"prep_fraction", -1.f},
+                                                  {"hider_outside_chance", 1.5f},
+                                                  {"hider_outside_chance", -0.5f},
+                                                  {"prop_start_offset", 1.1f}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
     SingleEnvHarness harness(env);
@@ -103,7 +107,8 @@ TEST(HideAndSeekTest, HiderOutsideChancePlacesHiders) {
         if (!in_room) {
           ++outside;
           EXPECT_LT(box, ap.room_half + 0.5f * ap.wall_thickness + 2.5f + 0.5f + 1e-4f)
-              << "a hider outside starts in the band 2.5 m (plus its 0.5 m footprint) around the room";
+              << "a hider outside starts in the band 2.5 m (plus its 0.5 m footprint) around the "
+                 "room";
         }
       }
     }

@@ -80,11 +80,13 @@ TEST(StrategyTrackerTest, AConditionReadsTheEpisodesMetricFirst) {
   std::map<std::string, float> values = {{"level", 3.f}, {"prop_start_offset", 0.5f}};
   auto parameter = [&](const std::string& name) { return values.at(name); };
   // the parameter is 0.5 but the env reports that the props started at their places
-  tracker.add_episode({{"fort_rate", 1.f}, {"prop_start_offset", 1.f}}, parameter, {{"Hider", 1}}, 0);
+  tracker.add_episode({{"fort_rate", 1.f}, {"prop_start_offset", 1.f}}, parameter, {{"Hider", 1}},
+                      0);
   EXPECT_DOUBLE_EQ(tracker.rate(0), 1.0);
   // and the other way round: a parameter of 1 with a reported 0.2 does not count
   values["prop_start_offset"] = 1.f;
-  tracker.add_episode({{"fort_rate", 0.f}, {"prop_start_offset", 0.2f}}, parameter, {{"Hider", 2}}, 0);
+  tracker.add_episode({{"fort_rate", 0.f}, {"prop_start_offset", 0.2f}}, parameter, {{"Hider", 2}},
+                      0);
   EXPECT_DOUBLE_EQ(tracker.rate(0), 1.0);
 }
 
