@@ -163,7 +163,7 @@ void GridSensor::observe_many(const GridSensor* const* sensors, float* const* ou
     const float* __restrict lat = s.lat.data();
     const float* __restrict lon = s.lon.data();
     const float* __restrict distance2 = s.distance2.data();
-    const std::int32_t* __restrict tag = points.tag();
+    const std::int32_t* __restrict tag = points.tag();  // in [0, kNumTags): SurfacePoints' rule
     std::int32_t* __restrict slot = s.slot.data();
     for (int i = 0; i < n; ++i) {
       const float row_f = std::max((north - lat[i]) * per_lat, 0.0f);
@@ -172,8 +172,7 @@ void GridSensor::observe_many(const GridSensor* const* sensors, float* const* ou
       const std::int32_t column = std::min(static_cast<std::int32_t>(column_f), columns - 1);
       // & rather than &&: no branches in the loop
       const bool seen = (lat[i] <= lat_high) & (lat[i] >= lat_low) & (lon[i] <= lon_limit) &
-                        (lon[i] >= -lon_limit) & (distance2[i] <= max_distance2) & (tag[i] >= 0) &
-                        (tag[i] < kNumTags);  // untagged bodies are not sensed
+                        (lon[i] >= -lon_limit) & (distance2[i] <= max_distance2);
       slot[i] = seen ? (row * columns + column) * kNumTags + tag[i] : unseen;
     }
     if (self_body >= 0) {
@@ -199,22 +198,19 @@ void GridSensor::observe_many(const GridSensor* const* sensors, float* const* ou
     }
     for (; i < n; ++i) b0[slot[i]] = std::min(b0[slot[i]], key[i]);
 
-    // proximity of the nearest point of each channel of each cell
-    float* out = outs[k];
-    const float span = p.max_distance - p.min_distance;
+    // proximity of the nearest point of each channel of each cell (vectorizable: no branches)
+    float* __restrict out = outs[k];
+    const float min_distance = p.min_distance;
+    const float per_span = 1.0f / (p.max_distance - p.min_distance);
     for (int c = 0; c < slots; ++c) {
       const std::uint32_t nearest = std::min(std::min(b0[c], b1[c]), std::min(b2[c], b3[c]));
-      if (nearest == kEmpty) {
-        out[c] = 0.0f;
-        continue;
-      }
       float d;
       std::memcpy(&d, &nearest, sizeof d);
-      float proximity = 1.0f - (std::max(d, p.min_distance) - p.min_distance) / span;
-      proximity = std::clamp(proximity, 0.0f, 1.0f);
-      if (p.normalization != 1.0f) proximity = std::pow(proximity, p.normalization);
-      out[c] = proximity;
+      const float proximity = 1.0f - (std::max(d, min_distance) - min_distance) * per_span;
+      out[c] = nearest == kEmpty ? 0.0f : std::clamp(proximity, 0.0f, 1.0f);
     }
+    if (p.normalization != 1.0f)
+      for (int c = 0; c < slots; ++c) out[c] = std::pow(out[c], p.normalization);
   }
 }
 

@@ -21,10 +21,10 @@ constexpr float kSpawnHeight = 1.0f;  // drones start at this height (m)
 constexpr int kSpawnAttempts = 2000;
 constexpr float kClosedCover = 0.5f;  // an opening is closed when more than half is covered
 
-// footprint radii used to keep spawns apart (m)
 // a prop standing in a doorway: its centre this far inside the wall's centre plane (the panel,
 // 0.2 m thick, clears the wall's inner face and covers the doorway for covered_fraction)
 constexpr float kInDoorway = 0.35f;
+// footprint radii used to keep spawns apart (m)
 constexpr float kDroneFootprint = 0.5f;
 constexpr float kPropFootprint = 0.85f;
 constexpr float kObstacleFootprint = 0.65f;
@@ -260,9 +260,9 @@ void HideAndSeek::build_episode() {
   // levels 1 and 2, prop_start_offset t < 1: prop i starts the fraction t of the way from standing
   // in doorway i (unlocked, covering it, parallel to its wall) to its own start place
   const float offset = s.prop_start_offset;
-  const auto in_doorway = [&](int i) {
-    const drone::Opening& door = openings[i];
-    return door.centre - door.normal * kInDoorway;
+  const auto in_doorway = [&](int i) {  // on the floor, as props start
+    const btVector3 p = openings[i].centre - openings[i].normal * kInDoorway;
+    return btVector3(p.x(), prop_y, p.z());
   };
   if (level_ == 1) {
     // next to doorway 0, inside the room, parallel to its wall, beside the doorway
@@ -285,10 +285,7 @@ void HideAndSeek::build_episode() {
             const btVector3 d = p - o.centre;
             far = far && (d.x() * d.x() + d.z() * d.z() >= 2.5f * 2.5f);
           }
-          if (offset < 1.0f) {
-            const btVector3 q = in_doorway(i);
-            p = btVector3(q.x(), prop_y, q.z()) + offset * (p - btVector3(q.x(), prop_y, q.z()));
-          }
+          if (offset < 1.0f) p = in_doorway(i) + offset * (p - in_doorway(i));
           bool clear = true;
           for (int j = 0; j < props_->size(); ++j)
             clear = clear && (p - (*props_)[j].position()).length() > 2 * kPropFootprint;

@@ -8,6 +8,11 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
+// whether a body carries one of the sensors' tags (BulletWorld tags every body it creates)
+bool has_tag(const btCollisionObject& object) {
+  return object.getUserIndex() >= 0 && object.getUserIndex() < kNumTags;
+}
+
 // cell centres of the face of a box of half extents `half` whose normal is +-axis `normal_axis`
 void sample_box_face(const btVector3& half, int normal_axis, float sign, float resolution,
                      std::vector<btVector3>& out) {
@@ -148,7 +153,7 @@ void SurfacePoints::rebuild(const btCollisionWorld& world) {
   // static bodies first, in world coordinates, without buried or outside points
   for (int i = 0; i < objects.size(); ++i) {
     const btCollisionObject& object = *objects[i];
-    if (!object.isStaticObject()) continue;
+    if (!object.isStaticObject() || !has_tag(object)) continue;
     if (!params_.detect_slabs && is_slab(object, params_.slab_aspect)) continue;
     local.clear();
     if (!sample_shape(*object.getCollisionShape(), params_.static_resolution, local)) {
@@ -176,7 +181,7 @@ void SurfacePoints::rebuild(const btCollisionWorld& world) {
   // dynamic bodies: local points cached, world points filled by the transform below
   for (int i = 0; i < objects.size(); ++i) {
     const btCollisionObject& object = *objects[i];
-    if (object.isStaticObject()) continue;
+    if (object.isStaticObject() || !has_tag(object)) continue;
     local.clear();
     if (!sample_shape(*object.getCollisionShape(), params_.dynamic_resolution, local)) {
       ++num_unsupported_;

@@ -9,7 +9,9 @@
 //                  res gets one point, and no point sits on an edge);
 //   btSphereShape: n = max(4, ceil(4 pi r^2 / res^2)) points on a Fibonacci spiral (equal area
 //                  per point, spacing about res).
-//   Other shapes are not detectable (counted in num_unsupported()).
+//   Other shapes are not detectable (counted in num_unsupported()), nor are bodies whose tag_of()
+//   is not a Tag (a body added to the btDynamicsWorld directly), so every point's tag is in
+//   [0, kNumTags).
 // Static bodies (isStaticObject() at build time: the arena's walls) use static_resolution and are
 // sampled once, in world coordinates; a static point is dropped when it lies inside or on another
 // static box (faces buried in a neighbouring wall, a chunk's sides against the wall it plugs, wall

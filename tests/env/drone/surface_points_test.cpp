@@ -106,6 +106,28 @@ TEST(SurfacePointsTest, DynamicPointsFollowTheirBodyAndStaticPointsStay) {
   }
 }
 
+// a body without a sensor tag (added to Bullet's world directly, user index -1) is not sampled, so
+// every point's tag indexes a grid channel
+TEST(SurfacePointsTest, UntaggedBodiesAreNotSampled) {
+  BulletWorld world;
+  DroneBody drone(world, btVector3(0, 1, 0), 0.0f, kHider);
+  btSphereShape shape(0.5f);
+  btRigidBody::btRigidBodyConstructionInfo info(1.0f, nullptr, &shape);
+  btRigidBody untagged(info);
+  untagged.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(3, 1, 0)));
+  ASSERT_EQ(untagged.getUserIndex(), -1);
+  world.world().addRigidBody(&untagged);
+  SurfacePoints points;
+  points.update(world);
+  EXPECT_EQ(points.body_index(untagged), -1);
+  EXPECT_GE(points.body_index(drone.body()), 0);
+  for (int i = 0; i < points.size(); ++i) {
+    EXPECT_GE(points.tag()[i], 0);
+    EXPECT_LT(points.tag()[i], kNumTags);
+  }
+  world.world().removeRigidBody(&untagged);
+}
+
 TEST(SurfacePointsTest, SlabsAreNotDetectableUnlessAskedFor) {
   BulletWorld world;
   btRigidBody* floor = world.add_static_box(btVector3(0, -0.1f, 0), btVector3(12, 0.1f, 12));
