@@ -12,6 +12,7 @@ const char* const kTrainHelp = R"(Usage: rlt train CONFIG [options]
 
 Trains every behavior of the environment named by CONFIG's env_settings.env_id with the trainer of
 its behaviors: entry. Writes results/<run-id>/: configuration.yaml, checkpoints/, metrics/,
+<Behavior>/events.out.tfevents.* (TensorBoard, ML-Agents' tags: tensorboard --logdir results),
 training_status.json and <Behavior>.pt (TorchScript policies) at the end. Envs that declare
 strategies (HideAndSeek: running_and_chasing, shelter) get their episode metrics in
 metrics/episodes.csv and the step each strategy emerged at in training_status.json.

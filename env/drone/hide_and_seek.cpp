@@ -52,6 +52,9 @@ struct HideAndSeek::Settings {
   int reward_preset = 0;  // 0 paper, 1 baker
   float hide_reward = 0.001f;
   float close_reward = 0.1f;
+  // 0 (the paper): close_reward the first time an opening becomes closed; 1 (held): whenever one
+  // becomes closed, and taken back whenever it opens again
+  int close_reward_mode = 0;
   float tagged_reward = -1.0f;
   float seen_reward = 0.001f;
   float unseen_reward = 0.0f;  // per seeker and test-phase frame in which no hider is seen
@@ -113,6 +116,7 @@ HideAndSeek::HideAndSeek()
       {"hide_reward", 0.001f},
       {"hide_reward_level4", 0.0005f},
       {"close_reward", 0.1f},
+      {"close_reward_mode", 0.f},
       {"tagged_reward", -1.f},
       {"seen_reward", 0.001f},
       {"unseen_reward", 0.f},
@@ -215,6 +219,7 @@ void HideAndSeek::build_episode() {
   s.reward_preset = drone::int_parameter(*this, "reward_preset", 0, 1);
   s.hide_reward = level_ == 4 ? parameter("hide_reward_level4") : parameter("hide_reward");
   s.close_reward = parameter("close_reward");
+  s.close_reward_mode = drone::int_parameter(*this, "close_reward_mode", 0, 1);
   s.tagged_reward = parameter("tagged_reward");
   s.seen_reward = parameter("seen_reward");
   s.unseen_reward = parameter("unseen_reward");
@@ -337,6 +342,7 @@ void HideAndSeek::build_episode() {
   frame_ = 0;
   over_ = false;
   ever_closed_ = {};
+  closed_now_ = {};
   tagged_ = 0;
   test_frames_ = seen_frames_ = hidden_frames_ = 0;
   closed_at_prep_end_ = 0;
@@ -560,13 +566,28 @@ void HideAndSeek::run_frame(StepView& io) {
 }
 
 void HideAndSeek::check_openings(StepView& io) {
+  const Settings& s = *settings_;
   for (int o = 0; o < kNumOpenings; ++o) {
-    if (ever_closed_[o] || !opening_closed(o)) continue;
-    ever_closed_[o] = true;
-    record_event("closed", nullptr, nullptr, o);
-    if (settings_->reward_preset != 0) continue;
+    float reward = 0.0f;
+    if (s.close_reward_mode == 0) {
+      // the paper: paid the first time the opening becomes closed
+      if (ever_closed_[o] || !opening_closed(o)) continue;
+      reward = s.close_reward;
+    } else {
+      // held: the hiders keep close_reward per opening that is closed now (a potential), so
+      // reopening one costs at once and locking it again gains nothing over keeping it
+      const bool closed = opening_closed(o);
+      if (closed == closed_now_[o]) continue;
+      closed_now_[o] = closed;
+      reward = closed ? s.close_reward : -s.close_reward;
+    }
+    if (!ever_closed_[o]) {
+      ever_closed_[o] = true;
+      record_event("closed", nullptr, nullptr, o);
+    }
+    if (s.reward_preset != 0) continue;
     for (int h = 0; h < kMaxHiders; ++h)
-      if (agent(kHider, h).present) io[kHider].reward(h) += settings_->close_reward;
+      if (agent(kHider, h).present) io[kHider].reward(h) += reward;
   }
 }
 

@@ -44,7 +44,10 @@
 //   hider (reward): + hide_reward (0.001; level 4: hide_reward_level4 0.0005) per test-phase frame
 //     in which no seeker sees it; + close_reward (0.1) the first time in the episode each opening
 //     becomes closed (every hider in the game gets it: the room is shared); + tagged_reward (-1)
-//     when tagged.
+//     when tagged. With `close_reward_mode` 1 (held) the close reward is paid whenever an opening
+//     becomes closed and taken back whenever it opens again (a potential: the hiders hold
+//     close_reward per closed opening, so a fort kept to the end pays and locking, unlocking and
+//     locking again pays nothing more).
 //   seeker: reward + seen_reward (0.001) per test-phase frame per hider it sees, times the
 //     assault-horizon signal clipped to [0, 1] when `assault_weighting` = 1; + unseen_reward (0;
 //     negative for the constant penalty of RQ3) per test-phase frame in which no seeker sees any
@@ -190,6 +193,7 @@ class HideAndSeek : public Env {
   long prep_frames_ = 0;
   bool over_ = false;
   std::array<bool, drone::kNumOpenings> ever_closed_{};
+  std::array<bool, drone::kNumOpenings> closed_now_{};  // close_reward_mode 1: as last checked
 
   // metrics
   int tagged_ = 0;

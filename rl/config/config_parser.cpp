@@ -938,6 +938,7 @@ CompletionCriteria Parser::parse_completion_criteria(const Val& value,
   CompletionCriteria criteria;
   bool has_behavior = false;
   std::optional<Val> threshold;
+  std::optional<Val> metric;
   dispatch(
       value,
       {
@@ -959,7 +960,14 @@ CompletionCriteria Parser::parse_completion_criteria(const Val& value,
            [&](const Val& v) {
              criteria.measure =
                  read_choice<CompletionMeasure>(v, {{"reward", CompletionMeasure::kReward},
-                                                    {"progress", CompletionMeasure::kProgress}});
+                                                    {"progress", CompletionMeasure::kProgress},
+                                                    {"metric", CompletionMeasure::kMetric}});
+           }},
+          {"metric",
+           [&](const Val& v) {
+             criteria.metric = read_string(v, false);
+             if (criteria.metric.empty()) fail(v, "must not be empty");
+             metric = v;
            }},
           {"min_lesson_length",
            [&](const Val& v) {
@@ -973,9 +981,18 @@ CompletionCriteria Parser::parse_completion_criteria(const Val& value,
            }},
           {"require_reset", [&](const Val& v) { criteria.require_reset = read_bool(v); }},
       });
-  if (!has_behavior) {
-    fail(join_path(value.path, "behavior"), value.line,
-         "missing: the behavior whose progress or reward completes the lesson");
+  if (criteria.measure == CompletionMeasure::kMetric) {
+    if (!metric) {
+      fail(join_path(value.path, "metric"), value.line,
+           "missing: with measure: metric, the env's episode metric that completes the lesson "
+           "(e.g. fort_rate)");
+    }
+  } else {
+    if (metric) fail(*metric, "is only read with measure: metric");
+    if (!has_behavior) {
+      fail(join_path(value.path, "behavior"), value.line,
+           "missing: the behavior whose progress or reward completes the lesson");
+    }
   }
   if (threshold && criteria.measure == CompletionMeasure::kProgress &&
       !in_range(criteria.threshold, RealRange{0.0, false, 1.0, false})) {
@@ -1245,10 +1262,18 @@ void emit_environment_parameters(
       if (lesson.completion_criteria) {
         const CompletionCriteria& criteria = *lesson.completion_criteria;
         out << YAML::Key << "completion_criteria" << YAML::Value << YAML::BeginMap;
-        out << YAML::Key << "behavior" << YAML::Value;
-        emit_string(out, criteria.behavior);
+        if (!criteria.behavior.empty()) {
+          out << YAML::Key << "behavior" << YAML::Value;
+          emit_string(out, criteria.behavior);
+        }
         out << YAML::Key << "measure" << YAML::Value
-            << (criteria.measure == CompletionMeasure::kReward ? "reward" : "progress");
+            << (criteria.measure == CompletionMeasure::kReward     ? "reward"
+                : criteria.measure == CompletionMeasure::kProgress ? "progress"
+                                                                   : "metric");
+        if (criteria.measure == CompletionMeasure::kMetric) {
+          out << YAML::Key << "metric" << YAML::Value;
+          emit_string(out, criteria.metric);
+        }
         out << YAML::Key << "min_lesson_length" << YAML::Value << criteria.min_lesson_length;
         out << YAML::Key << "signal_smoothing" << YAML::Value << criteria.signal_smoothing;
         out << YAML::Key << "threshold" << YAML::Value << format_float(criteria.threshold, false);

@@ -159,20 +159,24 @@ struct SamplerSettings {
   bool operator!=(const SamplerSettings& o) const { return !(*this == o); }
 };
 
-enum class CompletionMeasure { kReward, kProgress };
+enum class CompletionMeasure { kReward, kProgress, kMetric };
 
 // When a lesson is complete (ML-Agents' CompletionCriteriaSettings).
 struct CompletionCriteria {
-  std::string behavior;  // the behavior whose progress or rewards are measured (required)
-  // reward: mean episode reward of the behavior since the lesson began; progress: steps / max_steps
+  // the behavior whose progress or rewards are measured (required for reward and progress)
+  std::string behavior;
+  // reward: mean episode reward of the behavior since the lesson began; progress: steps /
+  // max_steps; metric (our extension): mean of the env's episode metric `metric` over the episodes
+  // played entirely in the lesson (e.g. HideAndSeek's fort_rate), so a lesson can wait for a skill
   CompletionMeasure measure = CompletionMeasure::kReward;
-  int min_lesson_length = 0;     // episodes of `behavior` recorded before the lesson may end
-  bool signal_smoothing = true;  // reward: 0.25 * previous smoothed value + 0.75 * mean
+  std::string metric;            // measure metric: a key of the env's episode metrics
+  int min_lesson_length = 0;     // episodes (of `behavior`; metric: env episodes) before it may end
+  bool signal_smoothing = true;  // reward, metric: 0.25 * previous smoothed value + 0.75 * mean
   double threshold = 0.0;        // the measure must exceed it; progress: in [0, 1]
   bool require_reset = false;    // reset every environment as soon as the lesson ends
 
   bool operator==(const CompletionCriteria& o) const {
-    return behavior == o.behavior && measure == o.measure &&
+    return behavior == o.behavior && measure == o.measure && metric == o.metric &&
            min_lesson_length == o.min_lesson_length && signal_smoothing == o.signal_smoothing &&
            threshold == o.threshold && require_reset == o.require_reset;
   }

@@ -108,9 +108,11 @@ EnvironmentParameterManager::EnvironmentParameterManager(
     for (const Lesson& lesson : parameter.curriculum) {
       if (!lesson.completion_criteria) continue;
       const CompletionCriteria& criteria = *lesson.completion_criteria;
-      int& capacity = capacity_[criteria.behavior];
+      const bool metric = criteria.measure == CompletionMeasure::kMetric;
+      const std::string& key = metric ? criteria.metric : criteria.behavior;
+      int& capacity = (metric ? metric_capacity_ : capacity_)[key];
       capacity = std::max({capacity, 1, criteria.min_lesson_length});
-      rewards_[criteria.behavior];
+      (metric ? metrics_ : rewards_)[key];
     }
   }
 }
@@ -145,18 +147,63 @@ std::map<std::string, std::string> EnvironmentParameterManager::lesson_names() c
   return result;
 }
 
-void EnvironmentParameterManager::add_episode_reward(const std::string& behavior, double reward) {
-  const auto capacity = capacity_.find(behavior);
-  if (capacity == capacity_.end() || !std::isfinite(reward)) return;
-  std::deque<double>& buffer = rewards_[behavior];
-  buffer.push_back(reward);
+namespace {
+
+// Appends `value` to the buffer `key` of `buffers` when `capacities` has that key and the value is
+// finite, dropping the oldest values beyond the capacity.
+void record(const std::map<std::string, int>& capacities,
+            std::map<std::string, std::deque<double>>& buffers, const std::string& key,
+            double value) {
+  const auto capacity = capacities.find(key);
+  if (capacity == capacities.end() || !std::isfinite(value)) return;
+  std::deque<double>& buffer = buffers[key];
+  buffer.push_back(value);
   while (int(buffer.size()) > capacity->second) buffer.pop_front();
 }
 
-std::vector<double> EnvironmentParameterManager::reward_buffer(const std::string& behavior) const {
-  const auto found = rewards_.find(behavior);
-  if (found == rewards_.end()) return {};
+std::vector<double> as_vector(const std::map<std::string, std::deque<double>>& buffers,
+                              const std::string& key) {
+  const auto found = buffers.find(key);
+  if (found == buffers.end()) return {};
   return std::vector<double>(found->second.begin(), found->second.end());
+}
+
+}  // namespace
+
+void EnvironmentParameterManager::add_episode_reward(const std::string& behavior, double reward) {
+  record(capacity_, rewards_, behavior, reward);
+}
+
+void EnvironmentParameterManager::add_episode_metrics(const std::map<std::string, float>& metrics) {
+  for (const auto& [name, value] : metrics) record(metric_capacity_, metrics_, name, value);
+}
+
+std::vector<double> EnvironmentParameterManager::metric_buffer(const std::string& metric) const {
+  return as_vector(metrics_, metric);
+}
+
+void EnvironmentParameterManager::check_metric_names(const std::vector<std::string>& names) const {
+  for (const auto& [parameter, settings] : settings_) {
+    if (!settings.is_curriculum()) continue;
+    for (const Lesson& lesson : settings.curriculum) {
+      if (!lesson.completion_criteria ||
+          lesson.completion_criteria->measure != CompletionMeasure::kMetric)
+        continue;
+      const std::string& metric = lesson.completion_criteria->metric;
+      if (std::find(names.begin(), names.end(), metric) != names.end()) continue;
+      std::string known;
+      for (const std::string& name : names) known += (known.empty() ? "" : ", ") + name;
+      throw std::invalid_argument("environment_parameters." + parameter + ", lesson '" +
+                                  lesson.name +
+                                  "': completion_criteria measures the episode metric '" + metric +
+                                  "', which the environment does not report (it reports: " +
+                                  (known.empty() ? "none" : known) + ")");
+    }
+  }
+}
+
+std::vector<double> EnvironmentParameterManager::reward_buffer(const std::string& behavior) const {
+  return as_vector(rewards_, behavior);
 }
 
 int EnvironmentParameterManager::reward_buffer_capacity(const std::string& behavior) const {
@@ -178,10 +225,12 @@ LessonUpdate EnvironmentParameterManager::update(
     const Lesson& lesson = lessons[state.lesson];
     if (!lesson.completion_criteria) continue;
     const CompletionCriteria& criteria = *lesson.completion_criteria;
+    const bool metric = criteria.measure == CompletionMeasure::kMetric;
     const auto behavior = progress.find(criteria.behavior);
-    if (behavior == progress.end()) continue;
-    const std::deque<double>& rewards = rewards_.at(criteria.behavior);
-    if (int(rewards.size()) < criteria.min_lesson_length) continue;
+    if (!metric && behavior == progress.end()) continue;
+    const std::deque<double>& values =
+        metric ? metrics_.at(criteria.metric) : rewards_.at(criteria.behavior);
+    if (int(values.size()) < criteria.min_lesson_length) continue;
 
     bool complete = false;
     if (criteria.measure == CompletionMeasure::kProgress) {
@@ -189,10 +238,10 @@ LessonUpdate EnvironmentParameterManager::update(
       const double fraction = p.max_steps > 0 ? double(p.steps) / double(p.max_steps) : 0.0;
       complete = fraction > criteria.threshold;
     } else {
-      if (rewards.empty()) continue;
+      if (values.empty()) continue;
       double measure = 0.0;
-      for (const double reward : rewards) measure += reward;
-      measure /= double(rewards.size());
+      for (const double value : values) measure += value;
+      measure /= double(values.size());
       if (criteria.signal_smoothing) {
         measure = 0.25 * state.smoothed + 0.75 * measure;
         state.smoothed = measure;
@@ -207,6 +256,7 @@ LessonUpdate EnvironmentParameterManager::update(
   }
   if (result.changed) {
     for (auto& [behavior, rewards] : rewards_) rewards.clear();
+    for (auto& [metric, values] : metrics_) values.clear();
   }
   return result;
 }
@@ -221,17 +271,20 @@ std::string EnvironmentParameterManager::serialize() const {
             ", \"smoothed_value\": " + number_text(state.smoothed) + "}";
     first = false;
   }
-  text += "}, \"reward_buffers\": {";
-  first = true;
-  for (const auto& [behavior, rewards] : rewards_) {
-    text += (first ? "" : ", ") + json_quote(behavior) + ": [";
-    for (size_t i = 0; i < rewards.size(); ++i) {
-      text += (i == 0 ? "" : ", ") + number_text(rewards[i]);
+  const auto buffers_text = [](const std::map<std::string, std::deque<double>>& buffers) {
+    std::string text;
+    for (const auto& [key, values] : buffers) {
+      text += (text.empty() ? "" : ", ") + json_quote(key) + ": [";
+      for (size_t i = 0; i < values.size(); ++i) {
+        text += (i == 0 ? "" : ", ") + number_text(values[i]);
+      }
+      text += "]";
     }
-    text += "]";
-    first = false;
-  }
-  return text + "}}";
+    return text;
+  };
+  text += "}, \"reward_buffers\": {" + buffers_text(rewards_) + "}";
+  if (!metrics_.empty()) text += ", \"metric_buffers\": {" + buffers_text(metrics_) + "}";
+  return text + "}";
 }
 
 void EnvironmentParameterManager::deserialize(const std::string& state) {
@@ -269,24 +322,31 @@ void EnvironmentParameterManager::deserialize(const std::string& state) {
     }
   }
 
-  std::map<std::string, std::deque<double>> rewards;
-  for (const auto& [behavior, unused] : capacity_) rewards[behavior];
-  const YAML::Node buffers = root["reward_buffers"];
-  if (buffers && !buffers.IsNull()) {
-    if (!buffers.IsMap()) bad_state("reward_buffers: expected a mapping");
-    for (const auto& entry : buffers) {
-      const std::string behavior = entry.first.Scalar();
-      const auto found = rewards.find(behavior);
-      if (found == rewards.end()) continue;  // no completion_criteria measures it any more
-      if (!entry.second.IsSequence()) bad_state("reward_buffers." + behavior + ": expected a list");
-      for (const auto& reward : entry.second) {
-        found->second.push_back(read_number(reward, "reward_buffers." + behavior));
-      }
-      while (int(found->second.size()) > capacity_.at(behavior)) found->second.pop_front();
+  // the buffers `field` of the state, for the keys `capacities` has (the others are no longer
+  // measured), each cut to its capacity
+  const auto read_buffers = [&root](const char* field,
+                                    const std::map<std::string, int>& capacities) {
+    std::map<std::string, std::deque<double>> buffers;
+    for (const auto& [key, unused] : capacities) buffers[key];
+    const YAML::Node node = root[field];
+    if (!node || node.IsNull()) return buffers;
+    if (!node.IsMap()) bad_state(std::string(field) + ": expected a mapping");
+    for (const auto& entry : node) {
+      const std::string key = entry.first.Scalar();
+      const auto found = buffers.find(key);
+      if (found == buffers.end()) continue;
+      const std::string where = std::string(field) + "." + key;
+      if (!entry.second.IsSequence()) bad_state(where + ": expected a list");
+      for (const auto& value : entry.second) found->second.push_back(read_number(value, where));
+      while (int(found->second.size()) > capacities.at(key)) found->second.pop_front();
     }
-  }
+    return buffers;
+  };
+  auto rewards = read_buffers("reward_buffers", capacity_);
+  auto metrics = read_buffers("metric_buffers", metric_capacity_);
   state_ = std::move(states);
   rewards_ = std::move(rewards);
+  metrics_ = std::move(metrics);
 }
 
 }  // namespace rlt

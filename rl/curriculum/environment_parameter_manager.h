@@ -8,15 +8,20 @@
 // - The manager keeps, per behavior named by some completion_criteria, the total environment
 //   reward of that behavior's most recent episodes: at most max(1, largest min_lesson_length of
 //   the criteria naming the behavior) of them, the oldest dropped first.
+// - Our extension, `measure: metric`: the same kind of buffer per env episode metric that some
+//   criteria measure (e.g. HideAndSeek's fort_rate), fed with the env's finished episodes. The
+//   caller decides which episodes count (training feeds only those played entirely in the
+//   current lessons). The mean, smoothing and threshold work as for rewards; min_lesson_length
+//   counts those episodes.
 // - update() looks at every curriculum parameter that is not at its last lesson: a lesson whose
 //   behavior has recorded fewer than min_lesson_length episodes goes on. Otherwise measure
 //   `progress` ends it when steps / max_steps > threshold; measure `reward` computes the mean of
 //   the buffer (no episode yet: goes on), replaces it by 0.25 * previous smoothed value + 0.75 *
 //   mean when signal_smoothing is on (and keeps that as the new smoothed value), and ends the
 //   lesson when the result > threshold. A parameter moves at most one lesson per update(). When
-//   any parameter moved, every reward buffer is cleared. Smoothed values persist across lessons
+//   any parameter moved, every buffer is cleared. Smoothed values persist across lessons
 //   (they start at 0), as in ML-Agents.
-// - serialize() / deserialize() carry the lessons, the smoothed values and the reward buffers over
+// - serialize() / deserialize() carry the lessons, the smoothed values and the buffers over
 //   --resume exactly.
 //
 // No LibTorch here. Not thread-safe: one thread drives a manager.
@@ -75,7 +80,15 @@ class EnvironmentParameterManager {
   // are kept at most (0 when no completion_criteria names the behavior).
   std::vector<double> reward_buffer(const std::string& behavior) const;
   int reward_buffer_capacity(const std::string& behavior) const;
-  // The smoothed reward measure of a curriculum parameter (0 before its first reward measure).
+  // Records the episode metrics of one finished env episode: the ones some criterion measures, when
+  // finite.
+  void add_episode_metrics(const std::map<std::string, float>& metrics);
+  // The values recorded for metric `metric` since the last lesson change, oldest first.
+  std::vector<double> metric_buffer(const std::string& metric) const;
+  // Throws std::invalid_argument naming the parameter and lesson when a criterion measures an
+  // episode metric that is not in `names` (the env's; see VectorEnv::episode_metric_names).
+  void check_metric_names(const std::vector<std::string>& names) const;
+  // The smoothed reward or metric measure of a curriculum parameter (0 before its first one).
   double smoothed_value(const std::string& parameter) const;
 
   // Advances the lessons whose completion criteria are met (see the top of the file). A behavior
@@ -102,6 +115,8 @@ class EnvironmentParameterManager {
   std::map<std::string, ParameterState> state_;        // curriculum parameters only
   std::map<std::string, int> capacity_;                // reward buffer size per measured behavior
   std::map<std::string, std::deque<double>> rewards_;  // per measured behavior, oldest first
+  std::map<std::string, int> metric_capacity_;         // buffer size per measured metric
+  std::map<std::string, std::deque<double>> metrics_;  // per measured metric, oldest first
 };
 
 }  // namespace rlt

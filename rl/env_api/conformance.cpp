@@ -28,6 +28,13 @@ const char* step_type_name(StepType t) {
   return "invalid";
 }
 
+// "[a, b, c]"
+std::string join(const std::vector<std::string>& names) {
+  std::string out = "[";
+  for (size_t i = 0; i < names.size(); ++i) out += (i ? ", " : "") + names[i];
+  return out + "]";
+}
+
 // Collects violation messages, keeping the first `max` of them.
 class Report {
  public:
@@ -138,6 +145,7 @@ class LifeCycleChecker {
 
   // checks the buffers after vector step `step` (0 = the initial reset)
   void observe(VectorEnv& venv, int step) {
+    if (step == 0) metric_names_ = venv.episode_metric_names();
     for (int i = 0; i < static_cast<int>(envs_.size()); ++i) observe_env(venv, step, i);
   }
 
@@ -150,6 +158,13 @@ class LifeCycleChecker {
         continue;
       }
       ++envs_[f.env_index].episodes_reported;
+      std::vector<std::string> names;
+      for (const auto& [name, value] : f.metrics) names.push_back(name);
+      std::sort(names.begin(), names.end());
+      if (names != metric_names_)
+        report_->add(
+            where(step, f.env_index) + "episode metrics " + join(names) +
+            " differ from the names episode_metrics() gave after reset: " + join(metric_names_));
       for (const auto& [name, value] : f.metrics) {
         if (name.empty())
           report_->add(where(step, f.env_index) + "episode metric with an empty name");
@@ -335,6 +350,7 @@ class LifeCycleChecker {
   const EnvSpec& spec_;
   Report* report_;
   std::vector<EnvTrack> envs_;
+  std::vector<std::string> metric_names_;  // episode_metrics() names after the reset, sorted
 };
 
 // Runs `steps` random-action steps after a reset (or a reseed_and_reset when `reseed`), returning

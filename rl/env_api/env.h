@@ -42,7 +42,9 @@ class Env {
   // become kAbsent. The vector env has already zeroed rewards and `terminated`.
   virtual void step(StepView& io) = 0;
 
-  // Metrics of the episode that just ended (called once all agents are kLast or kAbsent).
+  // Metrics of the episode that just ended (called once all agents are kLast or kAbsent). The
+  // same names in every episode; also callable any time after reset() (the episode so far), which
+  // is how training learns the names before its first episode ends.
   virtual EpisodeMetrics episode_metrics() const { return {}; }
 
   // Physics frames this instance has simulated since it was built, for envs whose step runs

@@ -100,6 +100,13 @@ bool VectorEnv::write_scripted_actions(int behavior) {
   return all;
 }
 
+std::vector<std::string> VectorEnv::episode_metric_names() const {
+  std::vector<std::string> names;
+  for (const auto& [name, value] : envs_.front()->episode_metrics()) names.push_back(name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 uint64_t VectorEnv::physics_frames() const {
   uint64_t n = 0;
   for (const auto& env : envs_) n += env->physics_frames();

@@ -42,6 +42,9 @@ class VectorEnv {
     return envs_.at(env_index)->parameter(name);
   }
 
+  // The names of the episode metrics the env reports (instance 0, after a reset), sorted.
+  std::vector<std::string> episode_metric_names() const;
+
   // Seeds env i with base_seed + i and starts an episode in every instance.
   void reset();
   // Seeds every instance again (env i: seed + i) and starts new episodes: used to restart from a

@@ -84,6 +84,12 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   parameter_rng_.seed(seed_ * 6151 + 11);
   env_->set_parameters(parameters_.sample(parameter_rng_));  // validates the names now
   env_->reset();  // and the values (envs check them at reset), before anything is written
+  episode_epoch_.assign(env_->num_envs(), 0);
+  try {
+    parameters_.check_metric_names(env_->episode_metric_names());
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(config_.source_file + ": " + e.what());
+  }
   const EnvSpec& spec = env_->spec();
   for (const auto& [name, b] : config_.behaviors)
     if (spec.behavior_index(name) < 0) {
@@ -107,6 +113,9 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   summary_returns_.resize(trainers_.size());
   summary_group_returns_.resize(trainers_.size());
   summary_metrics_.resize(trainers_.size());
+  summary_lengths_.resize(trainers_.size());
+  summary_updates_.resize(trainers_.size());
+  tensorboard_.resize(trainers_.size());
   update_window_.resize(trainers_.size());
   strategies_ = StrategyTracker(spec.strategies);
   for (const auto& s : spec.strategies)
@@ -212,6 +221,7 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
       summary_returns_[b].insert(summary_returns_[b].end(), ep.returns.begin(), ep.returns.end());
       summary_group_returns_[b].insert(summary_group_returns_[b].end(), ep.group_returns.begin(),
                                        ep.group_returns.end());
+      summary_lengths_[b].insert(summary_lengths_[b].end(), ep.lengths.begin(), ep.lengths.end());
       auto& w = update_window_[b];
       w.returns.insert(w.returns.end(), ep.returns.begin(), ep.returns.end());
       w.lengths.insert(w.lengths.end(), ep.lengths.begin(), ep.lengths.end());
@@ -295,6 +305,7 @@ void TrainingRun::boundary(bool final) {
 void TrainingRun::sample_all_parameters() {
   if (parameters_.empty()) return;
   for (int i = 0; i < env_->num_envs(); ++i) env_->set_parameters(i, parameters_.sample(parameter_rng_));
+  std::fill(episode_epoch_.begin(), episode_epoch_.end(), lesson_epoch_);
 }
 
 void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished,
@@ -302,9 +313,14 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
   if (parameters_.empty()) return;
   for (int b = 0; b < num_trainers(); ++b)
     for (float r : episodes[b].returns) parameters_.add_episode_reward(trainers_[b]->behavior(), r);
+  // a metric measures the lesson it was played in: episodes begun before the last change are left
+  // out
+  for (const auto& f : finished)
+    if (episode_epoch_[f.env_index] == lesson_epoch_) parameters_.add_episode_metrics(f.metrics);
   std::map<std::string, BehaviorProgress> progress;
   for (auto& t : trainers_) progress[t->behavior()] = {t->step(), t->config().max_steps};
   const LessonUpdate u = parameters_.update(progress);
+  if (u.changed) ++lesson_epoch_;
   if (u.changed && u.require_reset) {
     // a lesson that asks for it restarts every episode now, from a deterministic point
     for (int b = 0; b < num_trainers(); ++b) trainers_[b]->interrupt_all(env_->buffers(b));
@@ -314,7 +330,10 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
     return;
   }
   // instances that just ended an episode get fresh values for their next reset
-  for (const auto& f : finished) env_->set_parameters(f.env_index, parameters_.sample(parameter_rng_));
+  for (const auto& f : finished) {
+    env_->set_parameters(f.env_index, parameters_.sample(parameter_rng_));
+    episode_epoch_[f.env_index] = lesson_epoch_;
+  }
 }
 
 void TrainingRun::save_checkpoint() {
@@ -429,6 +448,15 @@ void TrainingRun::export_policies() {
 }
 
 void TrainingRun::log_update(int b, const UpdateStats& s) {
+  UpdateSums& sums = summary_updates_[b];
+  sums.policy_loss += s.policy_loss;
+  sums.value_loss += s.value_loss;
+  sums.baseline_loss += s.baseline_loss;
+  sums.entropy += s.entropy;
+  sums.learning_rate += s.learning_rate;
+  sums.epsilon += s.epsilon;
+  sums.beta += s.beta;
+  ++sums.count;
   auto& w = update_window_[b];
   if (folder_) {
     std::ofstream out(folder_->metrics_path(trainers_[b]->behavior()), std::ios::app);
@@ -470,13 +498,56 @@ void TrainingRun::summarize(int b) {
   const double frac = double(t.step()) / double(t.config().max_steps);
   if (frac > 0 && frac < 1) os << " ETA: " << std::setprecision(0) << elapsed() * (1 - frac) / frac << " s.";
   os << (t.finished() ? "" : " Training.");
+  write_tensorboard(b);
   returns.clear();
   summary_group_returns_[b].clear();
+  summary_lengths_[b].clear();
+  summary_updates_[b] = UpdateSums{};
   summary_metrics_[b].clear();
   log_episode_metrics();
   if (options_.progress && isatty(2)) std::cerr << "\r\033[K";
   *log_ << os.str() << std::endl;
   last_progress_ = -1;
+}
+
+void TrainingRun::write_tensorboard(int b) {
+  if (!folder_) return;
+  const OnPolicyTrainer& t = *trainers_[b];
+  if (!tensorboard_[b])
+    tensorboard_[b] = std::make_unique<TensorBoardWriter>(folder_->file(t.behavior()));
+  // ML-Agents' tag names, so dashboards built for it work unchanged
+  std::vector<std::pair<std::string, float>> scalars;
+  const auto& returns = summary_returns_[b];
+  if (!returns.empty()) {
+    scalars.emplace_back("Environment/Cumulative Reward", float(mean_of(returns)));
+    scalars.emplace_back("Environment/Episode Length", float(mean_of(summary_lengths_[b])));
+    if (t.config().trainer_type == "poca")
+      scalars.emplace_back("Environment/Group Cumulative Reward",
+                           float(mean_of(summary_group_returns_[b])));
+  }
+  const UpdateSums& u = summary_updates_[b];
+  if (u.count > 0) {
+    const double n = u.count;
+    scalars.emplace_back("Losses/Policy Loss", float(u.policy_loss / n));
+    scalars.emplace_back("Losses/Value Loss", float(u.value_loss / n));
+    if (t.config().trainer_type == "poca")
+      scalars.emplace_back("Losses/Baseline Loss", float(u.baseline_loss / n));
+    scalars.emplace_back("Policy/Entropy", float(u.entropy / n));
+    scalars.emplace_back("Policy/Learning Rate", float(u.learning_rate / n));
+    scalars.emplace_back("Policy/Epsilon", float(u.epsilon / n));
+    scalars.emplace_back("Policy/Beta", float(u.beta / n));
+  }
+  if (t.config().self_play) scalars.emplace_back("Self-play/ELO", float(self_play_->elo(b)));
+  for (const auto& [name, lesson] : parameters_.lessons())
+    scalars.emplace_back("Environment/Lesson Number/" + name, float(lesson));
+  for (const auto& [name, sum_count] : summary_metrics_[b])
+    scalars.emplace_back("Environment/" + name, float(sum_count.first / sum_count.second));
+  for (int i = 0; i < int(strategies_.strategies().size()); ++i) {
+    const StrategySpec& st = strategies_.strategies()[i];
+    if (st.behavior == t.behavior())
+      scalars.emplace_back("Strategy/" + st.name, float(strategies_.rate(i)));
+  }
+  tensorboard_[b]->add_scalars(t.step(), scalars);
 }
 
 int64_t TrainingRun::total_steps() const {

@@ -10,8 +10,8 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <iosfwd>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,10 +19,11 @@
 #include "rl/config/run_config.h"
 #include "rl/curriculum/environment_parameter_manager.h"
 #include "rl/env_api/vector_env.h"
-#include "rl/trainer/on_policy_trainer.h"
 #include "rl/selfplay/self_play.h"
+#include "rl/trainer/on_policy_trainer.h"
 #include "rl/trainer/run_folder.h"
 #include "rl/trainer/strategy_tracker.h"
+#include "rl/trainer/tensorboard_writer.h"
 
 namespace rlt {
 
@@ -86,6 +87,8 @@ class TrainingRun {
   void export_policies();
   void log_update(int b, const UpdateStats& stats);
   void summarize(int b);
+  // the summary's scalars into <run>/<Behavior>/events.out.tfevents.* (ML-Agents' tags)
+  void write_tensorboard(int b);
   // strategies and the episode-metrics window of the finished env episodes
   void track_episodes(const std::vector<FinishedEpisode>& finished);
   // appends a row to metrics/episodes.csv with the episodes since the last row
@@ -109,6 +112,9 @@ class TrainingRun {
   TrainingStatus status_;
   int64_t boundary_index_ = 0;
   int64_t lesson_resets_ = 0;  // environment restarts asked by lessons (require_reset)
+  int64_t lesson_epoch_ = 0;   // lesson changes so far
+  std::vector<int64_t>
+      episode_epoch_;  // per env instance: lesson_epoch_ when its episode's parameters were drawn
   double elapsed_before_ = 0;  // seconds trained before a resume
   std::chrono::steady_clock::time_point start_;
   std::vector<int64_t> next_summary_, next_checkpoint_;  // per behavior
@@ -116,6 +122,15 @@ class TrainingRun {
   std::vector<std::vector<float>> summary_group_returns_; // per behavior
   std::vector<std::map<std::string, std::pair<double, int>>> summary_metrics_;  // per behavior: sum, count
   std::vector<EpisodeStats> update_window_;               // per behavior: episodes since last row
+  std::vector<std::vector<float>> summary_lengths_;       // per behavior: episode lengths
+  struct UpdateSums {  // the updates since the last summary, for TensorBoard
+    double policy_loss = 0, value_loss = 0, baseline_loss = 0, entropy = 0;
+    double learning_rate = 0, epsilon = 0, beta = 0;
+    int count = 0;
+  };
+  std::vector<UpdateSums> summary_updates_;  // per behavior
+  std::vector<std::unique_ptr<TensorBoardWriter>>
+      tensorboard_;  // per behavior, made at its first summary
   StrategyTracker strategies_;
   std::map<std::string, std::pair<double, int>> episode_window_;  // metric: sum, count since last row
   int64_t episode_window_count_ = 0;                              // env episodes since last row

@@ -79,7 +79,8 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"prep_fraction", -1.f},
                                                   {"hider_outside_chance", 1.5f},
                                                   {"hider_outside_chance", -0.5f},
-                                                  {"prop_start_offset", 1.1f}}) {
+                                                  {"prop_start_offset", 1.1f},
+                                                  {"close_reward_mode", 2.f}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
     SingleEnvHarness harness(env);
@@ -278,10 +279,8 @@ TEST(HideAndSeekTest, HidingPaysPerTestPhaseFrame) {
   EXPECT_EQ(g.hiders().reward[0], 0.0f);
 }
 
-TEST(HideAndSeekTest, LockedPropClosesTheDoorwayOnce) {
-  Game g({{"level", 1.f}, {"num_hiders", 1.f}, {"num_seekers", 1.f}});
-  EXPECT_EQ(g.env.count_closed(), 0);
-  // move the prop flat over doorway 0 and lock it with the hider
+// moves the prop flat over doorway 0 and the first hider in front of it, facing it
+void place_prop_in_doorway_and_hider_before_it(Game& g) {
   const drone::Opening& door = g.env.arena().openings()[0];
   auto& props = g.env.props();
   btTransform prop_pose = props[0].body->getWorldTransform();
@@ -295,6 +294,13 @@ TEST(HideAndSeekTest, LockedPropClosesTheDoorwayOnce) {
   pose.setOrigin(centre - door.normal * 1.2f + btVector3(0, 0, 0));
   pose.setRotation(btQuaternion(btVector3(0, 1, 0), std::atan2(door.normal.x(), door.normal.z())));
   hider.body().setWorldTransform(pose);
+}
+
+TEST(HideAndSeekTest, LockedPropClosesTheDoorwayOnce) {
+  Game g({{"level", 1.f}, {"num_hiders", 1.f}, {"num_seekers", 1.f}});
+  EXPECT_EQ(g.env.count_closed(), 0);
+  place_prop_in_doorway_and_hider_before_it(g);
+  auto& props = g.env.props();
   g.set_all(0.0f, 0, 1);
   g.harness.step();
   ASSERT_TRUE(props[0].locked());
@@ -303,10 +309,45 @@ TEST(HideAndSeekTest, LockedPropClosesTheDoorwayOnce) {
   g.set_all(0.0f);
   g.harness.step();
   EXPECT_EQ(g.hiders().reward[0], 0.0f);  // paid once
+  // unlocked and locked again: nothing taken back, nothing paid again
+  g.set_all(0.0f, 0, 2);
+  g.harness.step();
+  ASSERT_FALSE(props[0].locked());
+  EXPECT_EQ(g.hiders().reward[0], 0.0f);
+  g.set_all(0.0f, 0, 1);
+  g.harness.step();
+  ASSERT_TRUE(g.env.opening_closed(0));
+  EXPECT_EQ(g.hiders().reward[0], 0.0f);
   while (g.env.in_prep()) g.harness.step();
   const auto m = g.env.episode_metrics();
   EXPECT_EQ(m.at("fort_rate"), 1.0f);
   EXPECT_EQ(m.at("openings_closed"), 1.0f);
+}
+
+TEST(HideAndSeekTest, HeldCloseRewardIsTakenBackWhenTheDoorwayOpens) {
+  Game g({{"level", 1.f},
+          {"num_hiders", 1.f},
+          {"num_seekers", 1.f},
+          {"close_reward", 0.5f},
+          {"close_reward_mode", 1.f}});
+  place_prop_in_doorway_and_hider_before_it(g);
+  auto& props = g.env.props();
+  float total = 0.0f;
+  auto step = [&](int lock) {
+    g.set_all(0.0f, 0, lock);
+    g.harness.step();
+    total += g.hiders().reward[0];
+    return g.hiders().reward[0];
+  };
+  EXPECT_NEAR(step(1), 0.5f, 1e-6f);   // closed: paid
+  EXPECT_EQ(step(0), 0.0f);            // still closed: nothing more
+  EXPECT_NEAR(step(2), -0.5f, 1e-6f);  // unlocked: taken back
+  ASSERT_FALSE(props[0].locked());
+  EXPECT_FALSE(g.env.opening_closed(0));
+  EXPECT_NEAR(step(1), 0.5f, 1e-6f);  // closed again: paid again
+  EXPECT_NEAR(step(2), -0.5f, 1e-6f);
+  EXPECT_NEAR(step(1), 0.5f, 1e-6f);
+  EXPECT_NEAR(total, 0.5f, 1e-5f);  // what the hiders hold: one closed doorway
 }
 
 TEST(HideAndSeekTest, BakerPresetIsZeroSumPerDecision) {

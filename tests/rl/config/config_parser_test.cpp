@@ -640,8 +640,15 @@ TEST(ConfigParserErrorTest, CompletionCriteriaErrors) {
                "missing: the behavior");
   expect_error(with_criteria("          behavior: CartPole\n          measure: rewrd\n"),
                path + ".measure", 12,
-               "expected one of reward, progress, got 'rewrd' (did you "
+               "expected one of reward, progress, metric, got 'rewrd' (did you "
                "mean 'reward'?)");
+  // measure: metric (our extension) needs the metric and no behavior; the others the reverse
+  expect_error(with_criteria("          measure: metric\n          threshold: 0.5\n"),
+               path + ".metric", 10, "missing: with measure: metric, the env's episode metric");
+  expect_error(with_criteria("          measure: metric\n          metric: \"\"\n"),
+               path + ".metric", 12, "must not be empty");
+  expect_error(with_criteria("          behavior: CartPole\n          metric: fort_rate\n"),
+               path + ".metric", 12, "is only read with measure: metric");
   expect_error(with_criteria("          behavior: CartPole\n          threshold: 1.5\n"
                              "          measure: progress\n"),
                path + ".threshold", 12, "with measure: progress, expected a number in [0, 1]");
@@ -661,6 +668,24 @@ TEST(ConfigParserErrorTest, CompletionCriteriaErrors) {
                 .curriculum[0]
                 .completion_criteria->threshold,
             -3.0);
+}
+
+TEST(ConfigParserTest, MetricMeasuredLessonRoundTrips) {
+  const RunConfig config = parse(with_criteria(
+      "          measure: metric\n          metric: fort_rate\n          threshold: 0.6\n"
+      "          min_lesson_length: 50\n"));
+  const CompletionCriteria& criteria =
+      *config.environment_parameters.at("h").curriculum[0].completion_criteria;
+  EXPECT_EQ(criteria.measure, CompletionMeasure::kMetric);
+  EXPECT_EQ(criteria.metric, "fort_rate");
+  EXPECT_EQ(criteria.behavior, "");
+  EXPECT_EQ(criteria.threshold, 0.6);
+  EXPECT_EQ(criteria.min_lesson_length, 50);
+  const std::string yaml = run_config_to_yaml(config);
+  EXPECT_NE(yaml.find("measure: metric"), std::string::npos) << yaml;
+  const RunConfig again = parse(yaml);
+  EXPECT_EQ(again.environment_parameters.at("h").curriculum[0].completion_criteria, criteria);
+  EXPECT_EQ(run_config_to_yaml(again), yaml);
 }
 
 TEST(ConfigParserErrorTest, CurriculumErrors) {

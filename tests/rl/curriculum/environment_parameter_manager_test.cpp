@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <optional>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -368,6 +370,89 @@ TEST(EnvironmentParameterManagerTest, DeserializeChecksTheState) {
   manager.deserialize("{}");
   EXPECT_EQ(manager.lessons().at("height"), 0);
   EXPECT_TRUE(manager.reward_buffer("Jumper").empty());
+}
+
+// Two lessons of `offset` measured on the env's episode metric "fort_rate", and a second
+// parameter measured on the reward of "Jumper".
+EnvironmentParameterManager metric_lessons(int min_lesson_length, double threshold) {
+  CompletionCriteria forts;
+  forts.measure = CompletionMeasure::kMetric;
+  forts.metric = "fort_rate";
+  forts.threshold = threshold;
+  forts.min_lesson_length = min_lesson_length;
+  forts.signal_smoothing = false;
+  return EnvironmentParameterManager(
+      {{"offset", curriculum({lesson("Near", 0.f, forts), lesson("Far", 1.f)})},
+       {"height", curriculum({lesson("Low", 0.f, reward_criteria("Jumper", 100.0, 1)),
+                              lesson("High", 8.f)})}});
+}
+
+TEST(EnvironmentParameterManagerTest, MetricMeasureAdvancesOnTheEpisodeMetric) {
+  EnvironmentParameterManager manager = metric_lessons(3, 0.5);
+  // rewards do not move a metric lesson, whatever their size
+  for (int i = 0; i < 5; ++i) manager.add_episode_reward("Jumper", 50.0);
+  manager.add_episode_metrics({{"fort_rate", 1.f}, {"tag_rate", 1.f}});
+  manager.add_episode_metrics({{"fort_rate", 1.f}});
+  EXPECT_FALSE(manager.update({}).changed);  // 2 episodes < min_lesson_length 3
+  manager.add_episode_metrics({{"fort_rate", 0.f}, {"tag_rate", 1.f}});
+  manager.add_episode_metrics({{"tag_rate", 1.f}});          // no fort_rate: not counted
+  manager.add_episode_metrics({{"fort_rate", float(NAN)}});  // not finite: not counted
+  EXPECT_EQ(manager.metric_buffer("fort_rate"), (std::vector<double>{1, 1, 0}));
+  EXPECT_TRUE(manager.metric_buffer("tag_rate").empty());  // no criterion measures it
+  // no trainer is needed: the metric belongs to the env's episodes
+  EXPECT_TRUE(manager.update({}).changed);  // mean 2/3 > 0.5
+  EXPECT_EQ(manager.lessons().at("offset"), 1);
+  EXPECT_EQ(manager.lessons().at("height"), 0);
+  EXPECT_TRUE(manager.metric_buffer("fort_rate").empty());  // every buffer starts over
+  EXPECT_TRUE(manager.reward_buffer("Jumper").empty());
+}
+
+TEST(EnvironmentParameterManagerTest, MetricMeasureWaitsAtOrBelowItsThreshold) {
+  EnvironmentParameterManager manager = metric_lessons(4, 0.5);
+  for (float fort : {1.f, 0.f, 1.f, 0.f, 0.f}) manager.add_episode_metrics({{"fort_rate", fort}});
+  EXPECT_EQ(manager.metric_buffer("fort_rate"), (std::vector<double>{0, 1, 0, 0}));  // newest 4
+  EXPECT_FALSE(manager.update({}).changed);
+  manager.add_episode_metrics({{"fort_rate", 1.f}});  // {1, 0, 0, 1}: mean 0.5, not above
+  EXPECT_FALSE(manager.update({}).changed);
+  manager.add_episode_metrics({{"fort_rate", 1.f}});  // {0, 0, 1, 1} is still 0.5
+  EXPECT_FALSE(manager.update({}).changed);
+  manager.add_episode_metrics({{"fort_rate", 1.f}});  // {0, 1, 1, 1}
+  EXPECT_TRUE(manager.update({}).changed);
+}
+
+TEST(EnvironmentParameterManagerTest, MetricNamesAreCheckedAgainstTheEnv) {
+  EnvironmentParameterManager manager = metric_lessons(1, 0.5);
+  EXPECT_NO_THROW(manager.check_metric_names({"fort_rate", "tag_rate"}));
+  try {
+    manager.check_metric_names({"tag_rate", "seen_fraction"});
+    FAIL() << "a metric the env does not report must be an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "environment_parameters.offset, lesson 'Near': completion_criteria measures the "
+                 "episode metric 'fort_rate', which the environment does not report (it "
+                 "reports: tag_rate, seen_fraction)");
+  }
+  EXPECT_THROW(manager.check_metric_names({}), std::invalid_argument);
+  EXPECT_NO_THROW(three_lessons(1, 0.5).check_metric_names({}));  // nothing measures a metric
+}
+
+TEST(EnvironmentParameterManagerTest, MetricBuffersSurviveAResume) {
+  EnvironmentParameterManager manager = metric_lessons(3, 0.9);
+  manager.add_episode_metrics({{"fort_rate", 1.f}});
+  manager.add_episode_metrics({{"fort_rate", 0.25f}});
+  manager.add_episode_reward("Jumper", 2.0);
+  const std::string state = manager.serialize();
+  EXPECT_NE(state.find("\"metric_buffers\": {\"fort_rate\": [1, 0.25]}"), std::string::npos)
+      << state;
+  EnvironmentParameterManager resumed = metric_lessons(3, 0.9);
+  resumed.deserialize(state);
+  EXPECT_EQ(resumed.metric_buffer("fort_rate"), (std::vector<double>{1, 0.25}));
+  EXPECT_EQ(resumed.serialize(), state);
+  EXPECT_THROW(resumed.deserialize("{\"metric_buffers\": {\"fort_rate\": 3}}"), std::runtime_error);
+  EXPECT_EQ(resumed.metric_buffer("fort_rate"), (std::vector<double>{1, 0.25}));  // unchanged
+  // a state written before metric buffers existed reads as empty ones
+  resumed.deserialize("{\"reward_buffers\": {\"Jumper\": [2]}}");
+  EXPECT_TRUE(resumed.metric_buffer("fort_rate").empty());
 }
 
 TEST(EnvironmentParameterManagerTest, EmptyManager) {

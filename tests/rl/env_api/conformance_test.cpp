@@ -33,6 +33,7 @@ enum class Flaw {
   kTerminatedOnMid,   // `terminated` set on a kMid step
   kThrows,            // step 3 throws
   kBadSpec,           // an observation of size 0
+  kMetricNamesVary,   // an episode metric that only ended episodes report
 };
 
 // Two agents: agent 0 leaves (terminated) after 3 steps, agent 1 is truncated after 6.
@@ -53,6 +54,11 @@ class FlawedEnv : public Env {
   }
 
   const EnvSpec& spec() const override { return spec_; }
+  EpisodeMetrics episode_metrics() const override {
+    EpisodeMetrics metrics = {{"steps", static_cast<float>(t_)}};
+    if (flaw_ == Flaw::kMetricNamesVary && t_ > 0) metrics.emplace("ended", 1.f);
+    return metrics;
+  }
   void seed(uint64_t seed) override {
     if (flaw_ != Flaw::kIgnoresSeed) engine_.seed(seed);
   }
@@ -138,7 +144,7 @@ std::string flawed_name(Flaw flaw) { return "Flawed" + std::to_string(static_cas
 void register_flawed_envs() {
   static std::once_flag once;
   std::call_once(once, [] {
-    for (int f = 0; f <= static_cast<int>(Flaw::kBadSpec); ++f) {
+    for (int f = 0; f <= static_cast<int>(Flaw::kMetricNamesVary); ++f) {
       const Flaw flaw = static_cast<Flaw>(f);
       EnvRegistry::instance().add(flawed_name(flaw), [flaw](const Parameters&) {
         return std::unique_ptr<Env>(new FlawedEnv(flaw));
@@ -218,7 +224,10 @@ INSTANTIATE_TEST_SUITE_P(
                       FlawCase{Flaw::kRewardOnFirst, "kFirst carries a nonzero reward"},
                       FlawCase{Flaw::kTerminatedOnMid, "terminated is set on a kMid step"},
                       FlawCase{Flaw::kThrows, "flawed env failed"},
-                      FlawCase{Flaw::kBadSpec, "shape dimension 0 is not positive"}));
+                      FlawCase{Flaw::kBadSpec, "shape dimension 0 is not positive"},
+                      FlawCase{Flaw::kMetricNamesVary,
+                               "episode metrics [ended, steps] differ from the names "
+                               "episode_metrics() gave after reset: [steps]"}));
 
 TEST(ConformanceSpecTest, FindsBrokenSpecs) {
   EnvSpec spec;

@@ -8,14 +8,16 @@
 #include <fstream>
 #include <limits>
 #include <regex>
+#include <set>
 #include <sstream>
 
 #include "env/register_builtin_envs.h"
 #include "rl/config/config_parser.h"
 #include "rl/core/bad_numbers.h"
 #include "rl/env_api/env_registry.h"
-#include "rl/trainer/saved_run.h"
 #include "rl/selfplay/self_play.h"
+#include "rl/trainer/saved_run.h"
+#include "tests/rl/trainer/tensorboard_reader.h"
 
 namespace fs = std::filesystem;
 
@@ -69,10 +71,51 @@ class BadNumberEnv : public Env {
   static void restart_count() { global_ = 0; }
 };
 
+// One agent whose episodes last 3, 4 or 5 steps (by instance seed) and report the value of
+// parameter x, and whether it is below one half, as episode metrics.
+class LessonEchoEnv : public Env {
+ public:
+  LessonEchoEnv() {
+    spec_.name = "LessonEchoEnv";
+    spec_.max_episode_steps = 5;
+    BehaviorSpec b;
+    b.name = "Echo";
+    b.observations.push_back({"x", {1}, ObservationKind::kVector, -10.f, 10.f});
+    b.action.discrete_branches = {2};
+    spec_.behaviors.push_back(b);
+    spec_.default_parameters = {{"x", 0.f}};
+  }
+  const EnvSpec& spec() const override { return spec_; }
+  void seed(uint64_t s) override { length_ = 3 + int(s % 3); }
+  void reset(StepView& out) override {
+    t_ = 0;
+    out[0].step_type(0) = StepType::kFirst;
+    out[0].agent_id(0) = 0;
+    out[0].observation(0)[0] = parameter("x");
+  }
+  void step(StepView& io) override {
+    ++t_;
+    io[0].reward(0) = 0.f;
+    io[0].step_type(0) = t_ >= length_ ? StepType::kLast : StepType::kMid;
+    io[0].observation(0)[0] = parameter("x");
+  }
+  EpisodeMetrics episode_metrics() const override {
+    return {{"value", parameter("x")}, {"below_half", parameter("x") < 0.5f ? 1.f : 0.f}};
+  }
+
+ private:
+  EnvSpec spec_;
+  int length_ = 3;
+  int t_ = 0;
+};
+
 class TrainingRunTest : public ::testing::Test {
  protected:
   void SetUp() override {
     register_builtin_envs();
+    if (!EnvRegistry::instance().contains("LessonEchoEnv"))
+      EnvRegistry::instance().add(
+          "LessonEchoEnv", [](const Parameters&) { return std::make_unique<LessonEchoEnv>(); });
     if (!EnvRegistry::instance().contains("BadNumberEnv"))
       EnvRegistry::instance().add("BadNumberEnv", [](const Parameters&) { return std::make_unique<BadNumberEnv>(); });
     dir_ = fs::temp_directory_path() / ("rlt_training_run_test_" + std::to_string(::getpid()));
@@ -213,12 +256,13 @@ TEST_F(TrainingRunTest, SelfPlayPoolEloAndLearningTeamSurviveResume) {
 }
 
 // a two-lesson curriculum on Pursuit's `level`, advanced by the Seeker's progress, with self-play
-RunConfig pursuit_curriculum_config(int64_t max_steps) {
+RunConfig pursuit_curriculum_config(int64_t max_steps, int64_t summary_freq = 100000) {
   std::ostringstream y;
   y << "default_settings:\n"
     << "  hyperparameters: {batch_size: 64, buffer_size: 256, num_epoch: 1}\n"
     << "  network_settings: {hidden_units: 16, num_layers: 1}\n"
-    << "  time_horizon: 32\n  max_steps: " << max_steps << "\n  summary_freq: 100000\n"
+    << "  time_horizon: 32\n  max_steps: " << max_steps << "\n  summary_freq: " << summary_freq
+    << "\n"
     << "  checkpoint_interval: 1000\n"
     << "  self_play: {save_steps: 300, team_change: 500, swap_steps: 200, window: 3}\n"
     << "behaviors:\n  Seeker: {trainer_type: poca}\n  Hider: {trainer_type: ppo}\n"
@@ -258,6 +302,55 @@ TEST_F(TrainingRunTest, CurriculumCountsTheLearningBehaviorsStepsAndSurvivesResu
   for (size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(torch::equal(a[i], b[i])) << i;
 }
 
+// LessonEchoEnv with a curriculum on x measured by its episode metrics: lesson A ends after two
+// episodes (any value), lesson B when an episode played in it reports x < 0.5, which only an
+// episode begun in lesson A (x = 0) can.
+RunConfig echo_curriculum_config(const std::string& second_metric) {
+  std::ostringstream y;
+  y << "behaviors:\n  Echo:\n    trainer_type: ppo\n"
+    << "    hyperparameters: {batch_size: 16, buffer_size: 64, num_epoch: 1}\n"
+    << "    network_settings: {hidden_units: 8, num_layers: 1}\n"
+    << "    max_steps: 400\n    summary_freq: 100000\n    checkpoint_interval: 100000\n"
+    << "environment_parameters:\n  x:\n    curriculum:\n"
+    << "      - name: A\n        value: 0\n"
+    << "        completion_criteria: {measure: metric, metric: value, threshold: -1, "
+       "min_lesson_length: 2}\n"
+    << "      - name: B\n        value: 1\n"
+    << "        completion_criteria: {measure: metric, metric: " << second_metric
+    << ", threshold: 0, min_lesson_length: 1, signal_smoothing: false}\n"
+    << "      - name: C\n        value: 2\n"
+    << "env_settings: {env_id: LessonEchoEnv, num_envs: 3, seed: 0}\n";
+  return load_run_config_from_string(y.str(), "echo.yaml");
+}
+
+TEST_F(TrainingRunTest, MetricLessonsCountOnlyEpisodesPlayedInTheLesson) {
+  TrainingRun run(echo_curriculum_config("below_half"), options("echo"));
+  run.train();
+  // lesson A ended on its own episodes' metrics; when it did, episodes begun with x = 0 were
+  // still running (instances last 3, 4 and 5 steps) and would have ended lesson B at once
+  EXPECT_EQ(run.parameters().lesson_names().at("x"), "B");
+  // only episodes with x = 1 were counted since
+  EXPECT_FALSE(run.parameters().metric_buffer("below_half").empty());
+  for (double v : run.parameters().metric_buffer("below_half")) EXPECT_EQ(v, 0.0);
+  EXPECT_FALSE(run.parameters().metric_buffer("value").empty());
+  for (double v : run.parameters().metric_buffer("value")) EXPECT_EQ(v, 1.0);
+}
+
+TEST_F(TrainingRunTest, UnknownCurriculumMetricIsAnErrorBeforeWriting) {
+  try {
+    TrainingRun run(echo_curriculum_config("fort_rate"), options("echo_bad"));
+    FAIL() << "a metric the env does not report must be an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "echo.yaml: environment_parameters.x, lesson 'B': completion_criteria measures "
+                  "the episode metric 'fort_rate', which the environment does not report (it "
+                  "reports: below_half, value)"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "echo_bad"));
+}
+
 TEST_F(TrainingRunTest, WritesTheRunFolder) {
   TrainingRun run(small_config("CartPole", "CartPole", 2500, 1000), options("folder"));
   run.train();
@@ -278,6 +371,44 @@ TEST_F(TrainingRunTest, WritesTheRunFolder) {
   EXPECT_TRUE(std::regex_search(log_.str(), std::regex(R"(\[CartPole\] Step: 50[0-9]\. Time Elapsed: )")))
       << log_.str();
   EXPECT_NE(log_.str().find("Mean Reward:"), std::string::npos);
+}
+
+TEST_F(TrainingRunTest, WritesTensorBoardEventsWithMlAgentsTags) {
+  // self-play (ELO) and a curriculum (lesson) on Pursuit, whose episodes report metrics and
+  // whose seekers train with MA-POCA (group reward, baseline loss)
+  TrainingRun run(pursuit_curriculum_config(2000, 500), options("tb"));
+  run.train();
+  for (const std::string behavior : {"Seeker", "Hider"}) {
+    std::vector<std::string> files;
+    for (const auto& e : fs::directory_iterator(dir_ / "tb" / behavior))
+      files.push_back(e.path().string());
+    ASSERT_EQ(files.size(), 1u) << behavior;
+    const auto events = tensorboard_reader::read_events(files[0]);
+    ASSERT_GE(events.size(), 3u) << behavior;  // the version and at least two summaries
+    EXPECT_EQ(events[0].file_version, "brain.Event:2");
+    std::set<std::string> tags;
+    int64_t last_step = 0;
+    for (size_t i = 1; i < events.size(); ++i) {
+      EXPECT_GT(events[i].step, last_step);
+      last_step = events[i].step;
+      for (const auto& [tag, value] : events[i].scalars) {
+        tags.insert(tag);
+        EXPECT_TRUE(std::isfinite(value)) << tag;
+      }
+    }
+    const int b = run.trainer(0).behavior() == behavior ? 0 : 1;
+    EXPECT_EQ(last_step, run.trainer(b).step());
+    for (const char* tag :
+         {"Environment/Cumulative Reward", "Environment/Episode Length", "Losses/Policy Loss",
+          "Losses/Value Loss", "Policy/Entropy", "Policy/Learning Rate", "Self-play/ELO",
+          "Environment/Lesson Number/level", "Environment/tag_rate"})
+      EXPECT_TRUE(tags.count(tag)) << behavior << " " << tag;
+    const bool poca = behavior == "Seeker";
+    EXPECT_EQ(tags.count("Losses/Baseline Loss"), poca ? 1u : 0u) << behavior;
+    EXPECT_EQ(tags.count("Environment/Group Cumulative Reward"), poca ? 1u : 0u) << behavior;
+    // the last ELO written is the learner's rating at its last summary
+    EXPECT_NEAR(events.back().scalars.at("Self-play/ELO"), run.self_play().elo(b), 1e-2);
+  }
 }
 
 TEST_F(TrainingRunTest, KeepsOnlyTheNewestCheckpoints) {
