@@ -15,7 +15,9 @@ its behaviors: entry. Writes results/<run-id>/: configuration.yaml, checkpoints/
 <Behavior>/events.out.tfevents.* (TensorBoard, ML-Agents' tags: tensorboard --logdir results),
 training_status.json and <Behavior>.pt (TorchScript policies) at the end. Envs that declare
 strategies (HideAndSeek: running_and_chasing, shelter) get their episode metrics in
-metrics/episodes.csv and the step each strategy emerged at in training_status.json.
+metrics/episodes.csv and the step each strategy emerged at in training_status.json. Prints a
+summary line per behavior every summary_freq steps, a progress bar with the time left (on a
+terminal), and at the end a table of steps, rewards, ELO, lessons and strategies.
 
 Options:
   --run-id ID            run folder name (default: checkpoint_settings.run_id)
@@ -66,10 +68,8 @@ int run_train(const std::vector<std::string>& args) {
             << " environments)" << std::endl;
   auto result = run.train();
   std::cout << "Done in " << result.seconds << " s: " << result.agent_steps << " agent steps ("
-            << int64_t(result.agent_steps / std::max(1e-9, result.seconds)) << "/s). Policies: ";
-  for (int b = 0; b < run.num_trainers(); ++b)
-    std::cout << (b ? ", " : "") << run.folder()->policy_path(run.trainer(b).behavior());
-  std::cout << std::endl;
+            << int64_t(result.agent_steps / std::max(1e-9, result.seconds)) << "/s).\n"
+            << run.summary_table() << std::flush;
   return 0;
 }
 

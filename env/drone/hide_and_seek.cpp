@@ -53,7 +53,8 @@ struct HideAndSeek::Settings {
   float hide_reward = 0.001f;
   float close_reward = 0.1f;
   // 0 (the paper): close_reward the first time an opening becomes closed; 1 (held): whenever one
-  // becomes closed, and taken back whenever it opens again
+  // becomes closed, and taken back whenever it opens again; 2 (held and shaped): 1, plus half of
+  // it as a prop comes near an open opening (see opening_potential)
   int close_reward_mode = 0;
   float tagged_reward = -1.0f;
   float seen_reward = 0.001f;
@@ -219,7 +220,7 @@ void HideAndSeek::build_episode() {
   s.reward_preset = drone::int_parameter(*this, "reward_preset", 0, 1);
   s.hide_reward = level_ == 4 ? parameter("hide_reward_level4") : parameter("hide_reward");
   s.close_reward = parameter("close_reward");
-  s.close_reward_mode = drone::int_parameter(*this, "close_reward_mode", 0, 1);
+  s.close_reward_mode = drone::int_parameter(*this, "close_reward_mode", 0, 2);
   s.tagged_reward = parameter("tagged_reward");
   s.seen_reward = parameter("seen_reward");
   s.unseen_reward = parameter("unseen_reward");
@@ -342,11 +343,11 @@ void HideAndSeek::build_episode() {
   frame_ = 0;
   over_ = false;
   ever_closed_ = {};
-  closed_now_ = {};
   tagged_ = 0;
   test_frames_ = seen_frames_ = hidden_frames_ = 0;
   closed_at_prep_end_ = 0;
   fort_ = false;
+  potential_ = s.close_reward_mode != 0 ? opening_potential() : 0.0f;  // where the props start
   // seekers are frozen in the prep phase
   const bool prep = prep_frames_ > 0;
   for (int slot = 0; slot < num_agents_[kSeeker]; ++slot) {
@@ -565,30 +566,49 @@ void HideAndSeek::run_frame(StepView& io) {
   last_all_hidden_ = all_hidden;
 }
 
+float HideAndSeek::opening_potential() const {
+  // modes 1 and 2: one per closed opening; mode 2 adds, for an open opening, half of how near
+  // the nearest prop is (1 at its centre, 0 from kShapingRange on)
+  float potential = 0.0f;
+  for (int o = 0; o < kNumOpenings; ++o) {
+    const drone::Opening& opening = arena_->openings()[o];
+    if (!opening.open) continue;
+    if (opening_closed(o)) {
+      potential += 1.0f;
+    } else if (settings_->close_reward_mode == 2) {
+      float nearest = kShapingRange;
+      for (int i = 0; i < props_->size(); ++i)
+        nearest = std::min(nearest, ((*props_)[i].position() - opening.centre).length());
+      potential += 0.5f * (1.0f - nearest / kShapingRange);
+    }
+  }
+  return potential;
+}
+
 void HideAndSeek::check_openings(StepView& io) {
   const Settings& s = *settings_;
-  for (int o = 0; o < kNumOpenings; ++o) {
-    float reward = 0.0f;
-    if (s.close_reward_mode == 0) {
-      // the paper: paid the first time the opening becomes closed
+  float reward = 0.0f;
+  if (s.close_reward_mode == 0) {
+    // the paper: paid the first time an opening becomes closed
+    for (int o = 0; o < kNumOpenings; ++o) {
       if (ever_closed_[o] || !opening_closed(o)) continue;
-      reward = s.close_reward;
-    } else {
-      // held: the hiders keep close_reward per opening that is closed now (a potential), so
-      // reopening one costs at once and locking it again gains nothing over keeping it
-      const bool closed = opening_closed(o);
-      if (closed == closed_now_[o]) continue;
-      closed_now_[o] = closed;
-      reward = closed ? s.close_reward : -s.close_reward;
+      reward += s.close_reward;
     }
-    if (!ever_closed_[o]) {
-      ever_closed_[o] = true;
-      record_event("closed", nullptr, nullptr, o);
-    }
-    if (s.reward_preset != 0) continue;
-    for (int h = 0; h < kMaxHiders; ++h)
-      if (agent(kHider, h).present) io[kHider].reward(h) += reward;
+  } else {
+    // held (and shaped): the change of a potential, so that reopening costs at once and going
+    // back and forth gains nothing
+    const float potential = opening_potential();
+    reward = s.close_reward * (potential - potential_);
+    potential_ = potential;
   }
+  for (int o = 0; o < kNumOpenings; ++o) {
+    if (ever_closed_[o] || !opening_closed(o)) continue;
+    ever_closed_[o] = true;
+    record_event("closed", nullptr, nullptr, o);
+  }
+  if (s.reward_preset != 0 || reward == 0.0f) return;
+  for (int h = 0; h < kMaxHiders; ++h)
+    if (agent(kHider, h).present) io[kHider].reward(h) += reward;
 }
 
 void HideAndSeek::pay_baker_rewards(StepView& io) {

@@ -47,7 +47,10 @@
 //     when tagged. With `close_reward_mode` 1 (held) the close reward is paid whenever an opening
 //     becomes closed and taken back whenever it opens again (a potential: the hiders hold
 //     close_reward per closed opening, so a fort kept to the end pays and locking, unlocking and
-//     locking again pays nothing more).
+//     locking again pays nothing more). With 2 (held and shaped) the hiders also hold half the
+//     close reward times how near (1 at its centre, 0 from 5 m on) the nearest prop is to each
+//     open opening that is not closed: potential-based shaping (Ng, Harada and Russell 1999)
+//     that pays for dragging a prop towards an opening and takes it back when it moves away.
 //   seeker: reward + seen_reward (0.001) per test-phase frame per hider it sees, times the
 //     assault-horizon signal clipped to [0, 1] when `assault_weighting` = 1; + unseen_reward (0;
 //     negative for the constant penalty of RQ3) per test-phase frame in which no seeker sees any
@@ -159,6 +162,10 @@ class HideAndSeek : public Env {
   void run_frame(StepView& io);
   void tag(Agent& hider, StepView& io);
   void check_openings(StepView& io);
+  // close_reward_mode 1: the number of closed openings; 2: plus, per open opening not closed,
+  // 0.5 (1 - d / kShapingRange) with d the distance from its centre to the nearest prop's
+  float opening_potential() const;
+  static constexpr float kShapingRange = 5.0f;  // m
   void pay_baker_rewards(StepView& io);
   void write_observation(BehaviorView& view, const Agent& agent);
   void write_mask(BehaviorView& view, const Agent& agent) const;
@@ -193,7 +200,7 @@ class HideAndSeek : public Env {
   long prep_frames_ = 0;
   bool over_ = false;
   std::array<bool, drone::kNumOpenings> ever_closed_{};
-  std::array<bool, drone::kNumOpenings> closed_now_{};  // close_reward_mode 1: as last checked
+  float potential_ = 0.0f;  // close_reward_mode 1-2: opening_potential() at the last decision
 
   // metrics
   int tagged_ = 0;

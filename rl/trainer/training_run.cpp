@@ -115,6 +115,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   summary_metrics_.resize(trainers_.size());
   summary_lengths_.resize(trainers_.size());
   summary_updates_.resize(trainers_.size());
+  last_summary_.resize(trainers_.size());
   tensorboard_.resize(trainers_.size());
   update_window_.resize(trainers_.size());
   strategies_ = StrategyTracker(spec.strategies);
@@ -478,6 +479,8 @@ void TrainingRun::summarize(int b) {
     os << " No episode was completed since last summary.";
   } else {
     os << " Mean Reward: " << mean_of(returns) << ". Std of Reward: " << std_of(returns) << ".";
+    last_summary_[b] = {true, mean_of(returns), mean_of(summary_group_returns_[b]),
+                        int64_t(returns.size())};
     const auto& group = summary_group_returns_[b];
     if (std::any_of(group.begin(), group.end(), [](float g) { return g != 0.f; }))
       os << " Mean Group Reward: " << mean_of(group) << ".";
@@ -548,6 +551,89 @@ void TrainingRun::write_tensorboard(int b) {
       scalars.emplace_back("Strategy/" + st.name, float(strategies_.rate(i)));
   }
   tensorboard_[b]->add_scalars(t.step(), scalars);
+}
+
+namespace {
+
+// 1234567 -> "1,234,567"
+std::string with_commas(int64_t n) {
+  std::string digits = std::to_string(n < 0 ? -n : n), out;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return (n < 0 ? "-" : "") + out;
+}
+
+std::string fixed(double value, int decimals) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(decimals) << value;
+  return os.str();
+}
+
+// rows of cells as a plain-text table, columns padded to their widest cell, a rule under row 0
+std::string text_table(const std::vector<std::vector<std::string>>& rows) {
+  std::vector<size_t> width;
+  for (const auto& row : rows)
+    for (size_t i = 0; i < row.size(); ++i) {
+      if (width.size() <= i) width.push_back(0);
+      width[i] = std::max(width[i], row[i].size());
+    }
+  std::string out;
+  for (size_t r = 0; r < rows.size(); ++r) {
+    std::string line = "  ";
+    for (size_t i = 0; i < rows[r].size(); ++i)
+      line += rows[r][i] + std::string(width[i] - rows[r][i].size() + 2, ' ');
+    out += line.substr(0, line.find_last_not_of(' ') + 1) + "\n";
+    if (r == 0) {
+      size_t total = 0;
+      for (size_t w : width) total += w + 2;
+      out += "  " + std::string(total - 2, '-') + "\n";
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string TrainingRun::summary_table() const {
+  std::vector<std::vector<std::string>> rows = {
+      {"behavior", "trainer", "steps", "episodes", "mean reward", "group reward", "ELO"}};
+  for (int b = 0; b < num_trainers(); ++b) {
+    const OnPolicyTrainer& t = *trainers_[b];
+    const LastSummary& last = last_summary_[b];
+    const bool poca = t.config().trainer_type == "poca";
+    rows.push_back({t.behavior(), t.config().trainer_type, with_commas(t.step()),
+                    last.any ? with_commas(last.episodes) : "-",
+                    last.any ? fixed(last.reward, 3) : "-",
+                    last.any && poca ? fixed(last.group_reward, 3) : "-",
+                    t.config().self_play ? fixed(self_play_->elo(b), 0) : "-"});
+  }
+  std::string out = "Summary (rewards of the last summary's episodes)\n" + text_table(rows);
+  const auto names = parameters_.lesson_names();
+  for (const auto& [name, lesson] : parameters_.lessons())
+    out += "Lesson " + name + ": " + std::to_string(lesson) + " (" + names.at(name) + ")\n";
+  if (!strategies_.empty()) {
+    std::vector<std::vector<std::string>> s = {
+        {"strategy", "behavior", "metric", "rate", "emerged at step", "after"}};
+    for (int i = 0; i < int(strategies_.strategies().size()); ++i) {
+      const StrategySpec& st = strategies_.strategies()[i];
+      const Emergence& e = strategies_.emergences()[i];
+      std::string metric = st.metric;
+      if (!st.conditions.empty()) metric += " (" + st.describe_conditions() + ")";
+      s.push_back({st.name, st.behavior, metric, fixed(strategies_.rate(i), 3),
+                   e.step >= 0 ? with_commas(e.step) : "not yet",
+                   e.step >= 0 ? fixed(e.elapsed_s / 60.0, 1) + " min" : "-"});
+    }
+    out += text_table(s);
+  }
+  if (folder_) {
+    out += "Policies:";
+    for (const auto& t : trainers_) out += " " + folder_->policy_path(t->behavior());
+    out += "\nTensorBoard: tensorboard --logdir " +
+           std::filesystem::path(folder_->path()).parent_path().string() + "\n";
+  }
+  return out;
 }
 
 int64_t TrainingRun::total_steps() const {

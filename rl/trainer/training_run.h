@@ -72,6 +72,10 @@ class TrainingRun {
   const RunFolder* folder() const { return folder_.get(); }
   const SelfPlay& self_play() const { return *self_play_; }
   const EnvironmentParameterManager& parameters() const { return parameters_; }
+  // The end-of-training table for people: per behavior its steps, the mean reward of its last
+  // summary, ELO; the lessons; each strategy's rate and when it emerged; where the policies and
+  // TensorBoard files are.
+  std::string summary_table() const;
   // the env's strategies: smoothed rates and emergence steps
   const StrategyTracker& strategies() const { return strategies_; }
 
@@ -129,6 +133,12 @@ class TrainingRun {
     int count = 0;
   };
   std::vector<UpdateSums> summary_updates_;  // per behavior
+  struct LastSummary {  // the newest summary with episodes, for summary_table()
+    bool any = false;
+    double reward = 0, group_reward = 0;
+    int64_t episodes = 0;
+  };
+  std::vector<LastSummary> last_summary_;  // per behavior
   std::vector<std::unique_ptr<TensorBoardWriter>>
       tensorboard_;  // per behavior, made at its first summary
   StrategyTracker strategies_;

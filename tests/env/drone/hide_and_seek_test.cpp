@@ -80,7 +80,7 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"hider_outside_chance", 1.5f},
                                                   {"hider_outside_chance", -0.5f},
                                                   {"prop_start_offset", 1.1f},
-                                                  {"close_reward_mode", 2.f}}) {
+                                                  {"close_reward_mode", 3.f}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
     SingleEnvHarness harness(env);
@@ -348,6 +348,44 @@ TEST(HideAndSeekTest, HeldCloseRewardIsTakenBackWhenTheDoorwayOpens) {
   EXPECT_NEAR(step(2), -0.5f, 1e-6f);
   EXPECT_NEAR(step(1), 0.5f, 1e-6f);
   EXPECT_NEAR(total, 0.5f, 1e-5f);  // what the hiders hold: one closed doorway
+}
+
+TEST(HideAndSeekTest, ShapedCloseRewardPaysForBringingAPropNear) {
+  Game g({{"level", 1.f},
+          {"num_hiders", 1.f},
+          {"num_seekers", 1.f},
+          {"close_reward", 0.5f},
+          {"close_reward_mode", 2.f}});
+  const drone::Opening& door = g.env.arena().openings()[0];
+  auto& prop = g.env.props()[0];
+  // puts the prop, unlocked, `d` metres inside the room from the doorway's centre
+  auto move_prop = [&](float d) {
+    btTransform pose = prop.body->getWorldTransform();
+    btVector3 p = door.centre - door.normal * d;
+    p.setY(door.centre.y());
+    pose.setOrigin(p);
+    prop.body->setWorldTransform(pose);
+  };
+  auto step = [&]() {
+    g.set_all(0.0f);
+    g.harness.step();
+    return g.hiders().reward[0];
+  };
+  move_prop(4.0f);
+  step();  // the teleport is paid for on this step: start from here
+  const float at4 = (prop.position() - door.centre).length();
+  move_prop(2.0f);
+  const float paid = step();
+  const float at2 = (prop.position() - door.centre).length();
+  // 0.5 (close reward) x 0.5 (half for nearness) x (distance gained / 5 m)
+  EXPECT_NEAR(paid, 0.5f * 0.5f * (at4 - at2) / 5.0f, 1e-4f);
+  EXPECT_GT(paid, 0.0f);
+  move_prop(4.0f);
+  EXPECT_NEAR(step(), -paid, 1e-4f);  // taken back as it moves away
+  move_prop(7.0f);
+  step();
+  move_prop(6.0f);
+  EXPECT_EQ(step(), 0.0f);  // beyond 5 m nearness is 0
 }
 
 TEST(HideAndSeekTest, BakerPresetIsZeroSumPerDecision) {

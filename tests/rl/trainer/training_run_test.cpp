@@ -409,6 +409,21 @@ TEST_F(TrainingRunTest, WritesTensorBoardEventsWithMlAgentsTags) {
     // the last ELO written is the learner's rating at its last summary
     EXPECT_NEAR(events.back().scalars.at("Self-play/ELO"), run.self_play().elo(b), 1e-2);
   }
+  // the table printed at the end names every behavior with its steps, the lesson and the files
+  const std::string table = run.summary_table();
+  for (int b = 0; b < 2; ++b) {
+    std::string steps = std::to_string(run.trainer(b).step());
+    if (steps.size() > 3) steps.insert(steps.size() - 3, ",");  // below 1,000,000
+    EXPECT_TRUE(std::regex_search(
+        table, std::regex("\\n  " + run.trainer(b).behavior() + " +(ppo|poca) +" + steps + " ")))
+        << table;
+  }
+  EXPECT_NE(table.find("Lesson level: 1 (hard)"), std::string::npos) << table;
+  EXPECT_NE(table.find("Policies: "), std::string::npos) << table;
+  for (const char* file : {"Hider.pt", "Seeker.pt"})
+    EXPECT_NE(table.find(" " + (dir_ / "tb" / file).string()), std::string::npos) << table;
+  EXPECT_NE(table.find("TensorBoard: tensorboard --logdir " + dir_.string()), std::string::npos)
+      << table;
 }
 
 TEST_F(TrainingRunTest, KeepsOnlyTheNewestCheckpoints) {
