@@ -347,7 +347,11 @@ void HideAndSeek::build_episode() {
   test_frames_ = seen_frames_ = hidden_frames_ = 0;
   closed_at_prep_end_ = 0;
   fort_ = false;
-  potential_ = s.close_reward_mode != 0 ? opening_potential() : 0.0f;  // where the props start
+  if (s.close_reward_mode != 0) {  // the potential where the props start
+    std::array<bool, kNumOpenings> closed{};
+    for (int o = 0; o < kNumOpenings; ++o) closed[o] = opening_closed(o);
+    potential_ = opening_potential(closed);
+  }
   // seekers are frozen in the prep phase
   const bool prep = prep_frames_ > 0;
   for (int slot = 0; slot < num_agents_[kSeeker]; ++slot) {
@@ -566,14 +570,14 @@ void HideAndSeek::run_frame(StepView& io) {
   last_all_hidden_ = all_hidden;
 }
 
-float HideAndSeek::opening_potential() const {
+float HideAndSeek::opening_potential(const std::array<bool, kNumOpenings>& closed) const {
   // modes 1 and 2: one per closed opening; mode 2 adds, for an open opening, half of how near
   // the nearest prop is (1 at its centre, 0 from kShapingRange on)
   float potential = 0.0f;
   for (int o = 0; o < kNumOpenings; ++o) {
     const drone::Opening& opening = arena_->openings()[o];
     if (!opening.open) continue;
-    if (opening_closed(o)) {
+    if (closed[o]) {
       potential += 1.0f;
     } else if (settings_->close_reward_mode == 2) {
       float nearest = kShapingRange;
@@ -587,22 +591,25 @@ float HideAndSeek::opening_potential() const {
 
 void HideAndSeek::check_openings(StepView& io) {
   const Settings& s = *settings_;
+  // each opening's state, computed once (covered_fraction casts rays): a held reward needs every
+  // opening, the paper's only those not closed yet
+  std::array<bool, kNumOpenings> closed{};
+  for (int o = 0; o < kNumOpenings; ++o)
+    if (s.close_reward_mode != 0 || !ever_closed_[o]) closed[o] = opening_closed(o);
   float reward = 0.0f;
   if (s.close_reward_mode == 0) {
     // the paper: paid the first time an opening becomes closed
-    for (int o = 0; o < kNumOpenings; ++o) {
-      if (ever_closed_[o] || !opening_closed(o)) continue;
-      reward += s.close_reward;
-    }
+    for (int o = 0; o < kNumOpenings; ++o)
+      if (!ever_closed_[o] && closed[o]) reward += s.close_reward;
   } else {
     // held (and shaped): the change of a potential, so that reopening costs at once and going
     // back and forth gains nothing
-    const float potential = opening_potential();
+    const float potential = opening_potential(closed);
     reward = s.close_reward * (potential - potential_);
     potential_ = potential;
   }
   for (int o = 0; o < kNumOpenings; ++o) {
-    if (ever_closed_[o] || !opening_closed(o)) continue;
+    if (ever_closed_[o] || !closed[o]) continue;
     ever_closed_[o] = true;
     record_event("closed", nullptr, nullptr, o);
   }

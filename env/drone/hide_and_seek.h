@@ -164,7 +164,8 @@ class HideAndSeek : public Env {
   void check_openings(StepView& io);
   // close_reward_mode 1: the number of closed openings; 2: plus, per open opening not closed,
   // 0.5 (1 - d / kShapingRange) with d the distance from its centre to the nearest prop's
-  float opening_potential() const;
+  // (`closed`: opening_closed of each opening, computed once by the caller)
+  float opening_potential(const std::array<bool, drone::kNumOpenings>& closed) const;
   static constexpr float kShapingRange = 5.0f;  // m
   void pay_baker_rewards(StepView& io);
   void write_observation(BehaviorView& view, const Agent& agent);

@@ -159,8 +159,7 @@ class LifeCycleChecker {
       }
       ++envs_[f.env_index].episodes_reported;
       std::vector<std::string> names;
-      for (const auto& [name, value] : f.metrics) names.push_back(name);
-      std::sort(names.begin(), names.end());
+      for (const auto& [name, value] : f.metrics) names.push_back(name);  // in order: a map
       if (names != metric_names_)
         report_->add(
             where(step, f.env_index) + "episode metrics " + join(names) +
@@ -350,7 +349,7 @@ class LifeCycleChecker {
   const EnvSpec& spec_;
   Report* report_;
   std::vector<EnvTrack> envs_;
-  std::vector<std::string> metric_names_;  // episode_metrics() names after the reset, sorted
+  std::vector<std::string> metric_names_;  // episode_metrics() names after the reset, in order
 };
 
 // Runs `steps` random-action steps after a reset (or a reseed_and_reset when `reseed`), returning

@@ -103,7 +103,6 @@ bool VectorEnv::write_scripted_actions(int behavior) {
 std::vector<std::string> VectorEnv::episode_metric_names() const {
   std::vector<std::string> names;
   for (const auto& [name, value] : envs_.front()->episode_metrics()) names.push_back(name);
-  std::sort(names.begin(), names.end());
   return names;
 }
 

@@ -42,7 +42,8 @@ class VectorEnv {
     return envs_.at(env_index)->parameter(name);
   }
 
-  // The names of the episode metrics the env reports (instance 0, after a reset), sorted.
+  // The names of the episode metrics the env reports (instance 0, after a reset), in order (a
+  // map's).
   std::vector<std::string> episode_metric_names() const;
 
   // Seeds env i with base_seed + i and starts an episode in every instance.

@@ -478,12 +478,13 @@ void TrainingRun::summarize(int b) {
   if (returns.empty()) {
     os << " No episode was completed since last summary.";
   } else {
-    os << " Mean Reward: " << mean_of(returns) << ". Std of Reward: " << std_of(returns) << ".";
-    last_summary_[b] = {true, mean_of(returns), mean_of(summary_group_returns_[b]),
-                        int64_t(returns.size())};
     const auto& group = summary_group_returns_[b];
+    const LastSummary& last = last_summary_[b] = {true, mean_of(returns), mean_of(group),
+                                                  mean_of(summary_lengths_[b]),
+                                                  int64_t(returns.size())};
+    os << " Mean Reward: " << last.reward << ". Std of Reward: " << std_of(returns) << ".";
     if (std::any_of(group.begin(), group.end(), [](float g) { return g != 0.f; }))
-      os << " Mean Group Reward: " << mean_of(group) << ".";
+      os << " Mean Group Reward: " << last.group_reward << ".";
     os << " Episodes: " << returns.size() << ".";
   }
   if (t.config().self_play) os << " ELO: " << self_play_->elo(b) << ".";
@@ -520,13 +521,12 @@ void TrainingRun::write_tensorboard(int b) {
     tensorboard_[b] = std::make_unique<TensorBoardWriter>(folder_->file(t.behavior()));
   // ML-Agents' tag names, so dashboards built for it work unchanged
   std::vector<std::pair<std::string, float>> scalars;
-  const auto& returns = summary_returns_[b];
-  if (!returns.empty()) {
-    scalars.emplace_back("Environment/Cumulative Reward", float(mean_of(returns)));
-    scalars.emplace_back("Environment/Episode Length", float(mean_of(summary_lengths_[b])));
+  if (!summary_returns_[b].empty()) {  // episodes since the last summary: last_summary_ is theirs
+    const LastSummary& last = last_summary_[b];
+    scalars.emplace_back("Environment/Cumulative Reward", float(last.reward));
+    scalars.emplace_back("Environment/Episode Length", float(last.length));
     if (t.config().trainer_type == "poca")
-      scalars.emplace_back("Environment/Group Cumulative Reward",
-                           float(mean_of(summary_group_returns_[b])));
+      scalars.emplace_back("Environment/Group Cumulative Reward", float(last.group_reward));
   }
   const UpdateSums& u = summary_updates_[b];
   if (u.count > 0) {

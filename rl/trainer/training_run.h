@@ -133,9 +133,9 @@ class TrainingRun {
     int count = 0;
   };
   std::vector<UpdateSums> summary_updates_;  // per behavior
-  struct LastSummary {  // the newest summary with episodes, for summary_table()
+  struct LastSummary {  // the newest summary with episodes (summary line, TensorBoard, table)
     bool any = false;
-    double reward = 0, group_reward = 0;
+    double reward = 0, group_reward = 0, length = 0;
     int64_t episodes = 0;
   };
   std::vector<LastSummary> last_summary_;  // per behavior
