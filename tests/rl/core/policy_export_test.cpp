@@ -2,6 +2,9 @@
 // torch::jit::load in a fresh process (policy_probe) and run on fixed observations; its actions
 // equal the FastActor's deterministic actions (continuous mean clipped as the env receives it,
 // masked argmax), and its spec_json attribute parses back to the behavior spec.
+//
+// The probe is LibTorch's (policy_probe.cpp) unless POLICY_PROBE_COMMAND names another with the
+// same protocol: ctest's policy_export_python_test sets it to Python's torch (policy_probe.py).
 #include "rl/core/policy_export.h"
 
 #include <gtest/gtest.h>
@@ -171,6 +174,13 @@ RunningNormalizer make_normalizer(uint64_t seed) {
   return norm;
 }
 
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 struct ProbeResult {
   std::string spec_json;
   int format_version = -1;
@@ -208,10 +218,12 @@ class PolicyExportTest : public testing::Test {
           in << '\n';
         }
     }
-    const std::string command = std::string(POLICY_PROBE) + " '" + model + "' '" + input + "' > '" +
-                                output + "' 2> '" + output + ".err'";
+    const char* other = std::getenv("POLICY_PROBE_COMMAND");
+    const std::string probe_command = other && *other ? other : POLICY_PROBE;
+    const std::string command = probe_command + " '" + model + "' '" + input + "' > '" + output +
+                                "' 2> '" + output + ".err'";
     const int status = std::system(command.c_str());
-    EXPECT_EQ(status, 0) << command;
+    EXPECT_EQ(status, 0) << command << "\n" << read_file(output + ".err");
     ProbeResult result;
     std::ifstream out(output);
     std::string line;
