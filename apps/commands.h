@@ -11,11 +11,13 @@ int run_eval(const std::vector<std::string>& args);
 int run_export(const std::vector<std::string>& args);
 int run_envs(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
+int run_plot(const std::vector<std::string>& args);
 
 extern const char* const kTrainHelp;
 extern const char* const kEvalHelp;
 extern const char* const kExportHelp;
 extern const char* const kEnvsHelp;
 extern const char* const kBenchHelp;
+extern const char* const kPlotHelp;
 
 }  // namespace rlt

@@ -9,7 +9,8 @@
 
 namespace {
 
-const char* kHelp = R"(rlt - reinforcement learning toolkit on LibTorch: PPO, MA-POCA, self-play, curricula
+const char* kHelp =
+    R"(rlt - reinforcement learning toolkit on LibTorch: PPO, MA-POCA, self-play, curricula
 
 Usage: rlt COMMAND [ARGS...]
 
@@ -19,6 +20,7 @@ Commands:
   eval --env ID    play an env with random, still, scripted or trained policies per behavior
                    (--policy Hider=scripted), optionally recording the episodes (--record FILE)
   export RUN_DIR   write each behavior's TorchScript policy to RUN_DIR/<Behavior>.pt
+  plot RUN_DIR...  draw the learning curves of one run or several side by side as PNG files
   envs             list the registered environments and their behavior specs
   bench            measure training, environment or matrix-product throughput
 
@@ -46,11 +48,10 @@ int main(int argc, char** argv) {
     int (*run)(const std::vector<std::string>&);
     const char* help;
   };
-  const Entry entries[] = {{"train", rlt::run_train, rlt::kTrainHelp},
-                           {"eval", rlt::run_eval, rlt::kEvalHelp},
-                           {"export", rlt::run_export, rlt::kExportHelp},
-                           {"envs", rlt::run_envs, rlt::kEnvsHelp},
-                           {"bench", rlt::run_bench, rlt::kBenchHelp}};
+  const Entry entries[] = {
+      {"train", rlt::run_train, rlt::kTrainHelp},    {"eval", rlt::run_eval, rlt::kEvalHelp},
+      {"export", rlt::run_export, rlt::kExportHelp}, {"envs", rlt::run_envs, rlt::kEnvsHelp},
+      {"bench", rlt::run_bench, rlt::kBenchHelp},    {"plot", rlt::run_plot, rlt::kPlotHelp}};
   for (const auto& e : entries) {
     if (command != e.name) continue;
     for (const auto& a : args)

@@ -5,7 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(cmake g++ make libtorch-dev libbullet-dev libeigen3-dev libyaml-cpp-dev libgloo-dev
-          libopenblas0-pthread libgtest-dev python3-torch)
+          libopenblas0-pthread libgtest-dev python3-torch
+          gnuplot-nox zlib1g-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -4,7 +4,8 @@
 //                          self-play ELO, the step each of the env's strategies emerged at,
 //                          whether training finished
 //   checkpoints/           checkpoint-<index>.pt, written atomically (temporary file, then rename)
-//   metrics/<Behavior>.csv one row per update: losses, schedules, episodes since the last row
+//   metrics/<Behavior>.csv one row per update: losses, schedules, episodes since the last row,
+//                          self-play ELO
 //   metrics/episodes.csv   one row per summary: steps, lessons and the means of the env's episode
 //                          metrics (strategy rates) over the episodes since the last row
 //   <Behavior>.pt          the exported TorchScript policy

@@ -30,7 +30,7 @@ namespace {
 
 const char* kMetricsHeader =
     "step,elapsed_s,episodes,mean_return,std_return,mean_length,policy_loss,value_loss,"
-    "baseline_loss,entropy,learning_rate,epsilon,beta\n";
+    "baseline_loss,entropy,learning_rate,epsilon,beta,elo\n";
 
 // keeps the rows of a metrics file whose step is <= `step` (after a resume)
 void truncate_metrics(const std::string& path, int64_t step) {
@@ -464,7 +464,9 @@ void TrainingRun::log_update(int b, const UpdateStats& s) {
     out << trainers_[b]->step() << ',' << elapsed() << ',' << w.returns.size() << ','
         << mean_of(w.returns) << ',' << std_of(w.returns) << ',' << mean_of(w.lengths) << ','
         << s.policy_loss << ',' << s.value_loss << ',' << s.baseline_loss << ',' << s.entropy << ','
-        << s.learning_rate << ',' << s.epsilon << ',' << s.beta << '\n';
+        << s.learning_rate << ',' << s.epsilon << ',' << s.beta << ',';
+    if (trainers_[b]->config().self_play) out << self_play_->elo(b);  // else empty
+    out << '\n';
   }
   w = EpisodeStats{};
 }

@@ -1,5 +1,6 @@
 # Shared by the experiment scripts (sourced, not run): training runs that are reused when they
-# already finished, and PNG line plots with gnuplot (installed from Debian when missing).
+# already finished, and their learning curves drawn by `rlt plot` (gnuplot, installed from Debian
+# when missing).
 # Environment: RESULTS (run folders, default results/experiments), REPORTS (default docs/results),
 # SEEDS (default 1), STEPS (each script's own default).
 set -euo pipefail
@@ -61,26 +62,12 @@ emerged_minutes() {
     awk '{ printf "%.1f", $2 / 60 }'
 }
 
-# plot OUT.png TITLE XLABEL YLABEL then series as "CSV|XCOLUMN|YCOLUMN|LABEL" ...
+# plot OUT_DIR RUN_ID...: the runs' learning curves side by side (rlt plot) in OUT_DIR
 plot() {
-  # gnuplot's single-quoted strings write a quote as two
-  local q="'" qq="''"
-  local out=$1 title=${2//$q/$qq} xlabel=${3//$q/$qq} ylabel=${4//$q/$qq}
-  shift 4
-  local cmds="set terminal pngcairo noenhanced size 900,500 font 'sans,10'; set output '$out';"
-  cmds+=" set datafile separator ','; set key top left; set grid;"
-  cmds+=" set title '$title'; set xlabel '$xlabel'; set ylabel '$ylabel'; plot "
-  local first=1
-  for series in "$@"; do
-    IFS='|' read -r csv xname yname label <<< "$series"
-    label=${label//$q/$qq}
-    local x y
-    x=$(column "$xname" "$csv")
-    y=$(column "$yname" "$csv")
-    [ $first -eq 1 ] || cmds+=", "
-    cmds+="'$csv' every ::1 using $x:$y with lines lw 2 title '$label'"
-    first=0
-  done
-  # a run too short to have data leaves the plot out, not the report
-  gnuplot -e "$cmds" || echo "no plot $out: gnuplot found no data" >&2
+  local out=$1
+  shift
+  local runs=()
+  for run_id in "$@"; do runs+=("$RESULTS/$run_id"); done
+  # a run too short to have data leaves the plots out, not the report
+  "$RLT" plot "${runs[@]}" --out "$out" > /dev/null || echo "no plots in $out" >&2
 }

@@ -32,17 +32,12 @@ for seed in $SEEDS; do
     minutes=$(awk -F, 'END { printf "%.0f", $2 / 60 }' "$hider")
     echo "| $seed | $arm | $reward | ${lesson:-fixed 4} | $fort | $minutes |" >> "$report"
   done
-  plot "$REPORTS/rq1_hider_reward_s$seed.png" "RQ1: hider reward, seed $seed" "hider steps" "mean episode reward" \
-    "$RESULTS/rq1_curriculum_s$seed/metrics/Hider.csv|step|mean_return|curriculum" \
-    "$RESULTS/rq1_no_curriculum_s$seed/metrics/Hider.csv|step|mean_return|no curriculum (level 4)"
-  plot "$REPORTS/rq1_lesson_s$seed.png" "RQ1: curriculum lesson and fort rate, seed $seed" "hider steps" "" \
-    "$RESULTS/rq1_curriculum_s$seed/metrics/episodes.csv|Hider_step|lesson_level|lesson (0 = level 1)" \
-    "$RESULTS/rq1_curriculum_s$seed/metrics/episodes.csv|Hider_step|fort_rate|fort rate, curriculum" \
-    "$RESULTS/rq1_no_curriculum_s$seed/metrics/episodes.csv|Hider_step|fort_rate|fort rate, level 4"
+  plot "$REPORTS/rq1_s$seed" "rq1_curriculum_s$seed" "rq1_no_curriculum_s$seed"
   {
     echo
-    echo "![hider reward, seed $seed](rq1_hider_reward_s$seed.png)"
-    echo "![lesson and fort rate, seed $seed](rq1_lesson_s$seed.png)"
+    echo "![rewards, seed $seed](rq1_s$seed/reward.png)"
+    echo "![lessons, seed $seed](rq1_s$seed/lessons.png)"
+    echo "![episode metrics (fort rate among them), seed $seed](rq1_s$seed/episode_metrics.png)"
   } >> "$report"
 done
 echo "wrote $report"

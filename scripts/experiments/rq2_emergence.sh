@@ -29,20 +29,12 @@ for seed in $SEEDS; do
   chase_min=$(emerged_minutes "$run_id" running_and_chasing)
   shelter_min=$(emerged_minutes "$run_id" shelter)
   echo "| ours, seed $seed | $chase${chase_min:+ ($chase_min min)} | $shelter${shelter_min:+ ($shelter_min min)} |" >> "$report"
-  episodes=$RESULTS/$run_id/metrics/episodes.csv
-  plot "$REPORTS/rq2_chasing_s$seed.png" "RQ2: running and chasing, seed $seed" "seeker steps" "rate" \
-    "$episodes|Seeker_step|tag_rate|tag rate (per summary)" \
-    "$episodes|Seeker_step|smoothed_tag_rate_running_and_chasing|tag rate, last 100 episodes" \
-    "$episodes|Seeker_step|seen_fraction|seen fraction"
-  plot "$REPORTS/rq2_shelter_s$seed.png" "RQ2: shelter, seed $seed" "hider steps" "rate" \
-    "$episodes|Hider_step|fort_rate|fort rate (per summary, any level)" \
-    "$episodes|Hider_step|smoothed_fort_rate_shelter|fort rate at level >= 2, props at their places, last 100 episodes" \
-    "$episodes|Hider_step|hidden_fraction|hidden fraction" \
-    "$episodes|Hider_step|lesson_level|lesson (0 = level 1)"
+  plot "$REPORTS/rq2_s$seed" "$run_id"
   {
     echo
-    echo "![chasing, seed $seed](rq2_chasing_s$seed.png)"
-    echo "![shelter, seed $seed](rq2_shelter_s$seed.png)"
+    echo "![strategy rates (shelter: level >= 2, props at their places), seed $seed](rq2_s$seed/strategies.png)"
+    echo "![lessons, seed $seed](rq2_s$seed/lessons.png)"
+    echo "![episode metrics, seed $seed](rq2_s$seed/episode_metrics.png)"
   } >> "$report"
 done
 echo "wrote $report"

@@ -32,10 +32,11 @@ for seed in $SEEDS; do
     reward=$(awk -F, 'NR > 1 && $3 > 0 { r = $4 } END { printf "%.3f", r }' "$RESULTS/$run_id/metrics/Seeker.csv")
     echo "| $seed | $arm | $(emerged "$run_id" running_and_chasing) | $rate | $reward |" >> "$report"
   done
-  plot "$REPORTS/rq3_tag_rate_s$seed.png" "RQ3: seekers' tag rate, seed $seed" "seeker steps" "tag rate, last 100 episodes" \
-    "$RESULTS/rq3_no_penalty_s$seed/metrics/episodes.csv|Seeker_step|smoothed_tag_rate_running_and_chasing|no penalty" \
-    "$RESULTS/rq3_penalty_s$seed/metrics/episodes.csv|Seeker_step|smoothed_tag_rate_running_and_chasing|unseen_reward $PENALTY"
-  echo >> "$report"
-  echo "![tag rate, seed $seed](rq3_tag_rate_s$seed.png)" >> "$report"
+  plot "$REPORTS/rq3_s$seed" "rq3_no_penalty_s$seed" "rq3_penalty_s$seed"
+  {
+    echo
+    echo "![tag rate over the last 100 episodes (rq3_penalty: unseen_reward $PENALTY), seed $seed](rq3_s$seed/strategies.png)"
+    echo "![rewards, seed $seed](rq3_s$seed/reward.png)"
+  } >> "$report"
 done
 echo "wrote $report"
