@@ -25,6 +25,25 @@ void write_value(std::ostream& out, float v) {
   out << s;
 }
 
+template <size_t N>
+void write_array(std::ostream& out, const std::array<float, N>& values) {
+  out << '[';
+  for (size_t k = 0; k < N; ++k) {
+    if (k) out << ',';
+    write_value(out, values[k]);
+  }
+  out << ']';
+}
+
+void write_list(std::ostream& out, const std::vector<float>& values) {
+  out << '[';
+  for (size_t k = 0; k < values.size(); ++k) {
+    if (k) out << ',';
+    write_value(out, values[k]);
+  }
+  out << ']';
+}
+
 void write_pose(std::ostream& out, const std::array<float, 7>& pose) {
   out << '[';
   for (int k = 0; k < 7; ++k) {
@@ -44,19 +63,36 @@ void write_episode(std::ostream& out, const EpisodeRecording& e) {
   for (size_t i = 0; i < e.bodies.size(); ++i) {
     const RecordedBody& b = e.bodies[i];
     if (b.dynamic) dynamic.push_back(i);
-    out << (i ? ",\n" : "\n") << "{\"kind\":" << json_string(b.kind) << ",\"shape\":"
-        << json_string(b.shape) << ",\"size\":[";
-    for (int k = 0; k < 3; ++k) {
-      if (k) out << ',';
-      write_value(out, b.size[k]);
+    out << (i ? ",\n" : "\n") << "{\"kind\":" << json_string(b.kind)
+        << ",\"shape\":" << json_string(b.shape) << ",\"size\":";
+    write_array(out, b.size);
+    out << ",\"agent_id\":" << b.agent_id << ",\"dynamic\":" << (b.dynamic ? "true" : "false");
+    if (b.vision_range > 0) {
+      out << ",\"vision\":{\"cone_degrees\":";
+      write_value(out, b.vision_cone_degrees);
+      out << ",\"range\":";
+      write_value(out, b.vision_range);
+      out << '}';
     }
-    out << "],\"agent_id\":" << b.agent_id << ",\"dynamic\":" << (b.dynamic ? "true" : "false")
-        << ",\"pose\":";
+    out << ",\"pose\":";
     if (!e.frames.empty() && e.frames[0].present.at(i))
       write_pose(out, e.frames[0].poses[i]);
     else
       out << "null";
     out << '}';
+  }
+  out << "],\"openings\":[";
+  for (size_t i = 0; i < e.openings.size(); ++i) {
+    const RecordedOpening& o = e.openings[i];
+    out << (i ? "," : "") << "\n{\"kind\":" << json_string(o.kind) << ",\"centre\":";
+    write_array(out, o.centre);
+    out << ",\"normal\":";
+    write_array(out, o.normal);
+    out << ",\"width\":";
+    write_value(out, o.width);
+    out << ",\"height\":";
+    write_value(out, o.height);
+    out << ",\"open\":" << (o.open ? "true" : "false") << '}';
   }
   out << "],\"dynamic_bodies\":[";
   for (size_t j = 0; j < dynamic.size(); ++j) out << (j ? "," : "") << dynamic[j];
@@ -81,6 +117,12 @@ void write_episode(std::ostream& out, const EpisodeRecording& e) {
       }
       out << ']';
     }
+    if (!frame.rewards.empty()) {
+      out << ",\"rewards\":";
+      write_list(out, frame.rewards);
+      out << ",\"group_rewards\":";
+      write_list(out, frame.group_rewards);
+    }
     out << '}';
   }
   out << "]}";
@@ -90,7 +132,7 @@ void write_episode(std::ostream& out, const EpisodeRecording& e) {
 
 void write_recordings_json(std::ostream& out,
                            const std::vector<std::shared_ptr<EpisodeRecording>>& episodes) {
-  out << "{\"format\":\"rlt-recording\",\"version\":1,\"episodes\":[";
+  out << "{\"format\":\"rlt-recording\",\"version\":2,\"episodes\":[";
   for (size_t i = 0; i < episodes.size(); ++i) {
     out << (i ? ",\n" : "\n");
     write_episode(out, *episodes[i]);

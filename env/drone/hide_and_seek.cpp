@@ -381,10 +381,24 @@ void HideAndSeek::build_episode() {
         body.size = {2 * h.x(), 2 * h.y(), 2 * h.z()};
       }
       for (const Agent& a : agents_)
-        if (a.drone && &a.drone->body() == o) body.agent_id = agent_id(a);
+        if (a.drone && &a.drone->body() == o) {
+          body.agent_id = agent_id(a);
+          body.vision_cone_degrees = settings_->vision_cone;
+          body.vision_range = settings_->vision_range;
+        }
       recording_.bodies.push_back(body);
       recorded_objects_.push_back(o);
       recorded_initial_.push_back(o);
+    }
+    for (const drone::Opening& o : arena_->openings()) {
+      RecordedOpening opening;
+      opening.kind = o.kind == drone::Opening::kDoorway ? "doorway" : "window";
+      opening.centre = {float(o.centre.x()), float(o.centre.y()), float(o.centre.z())};
+      opening.normal = {float(o.normal.x()), float(o.normal.y()), float(o.normal.z())};
+      opening.width = o.width;
+      opening.height = o.height;
+      opening.open = o.open;
+      recording_.openings.push_back(opening);
     }
     pending_events_.clear();
     record_frame();
@@ -650,6 +664,7 @@ void HideAndSeek::step(StepView& io) {
   }
   check_openings(io);
   if (s.reward_preset == 1 && !in_prep()) pay_baker_rewards(io);
+  if (recording_on_) record_rewards(io);
   update_sensor_scene();
 
   const bool truncated = !over_ && frame_ >= s.episode_frames;
@@ -760,6 +775,24 @@ void HideAndSeek::record_frame() {
   frame.events = pending_events_;
   pending_events_.clear();
   recording_.frames.push_back(std::move(frame));
+}
+
+void HideAndSeek::record_rewards(StepView& io) {
+  if (recording_.frames.empty()) return;
+  RecordedFrame& frame = recording_.frames.back();  // the decision's last frame
+  std::vector<float> rewards(agents_.size(), 0.0f), group(agents_.size(), 0.0f);  // [agents]
+  bool any = false;
+  for (const Agent& a : agents_) {
+    if (!a.drone) continue;
+    const int id = agent_id(a);
+    if (id < 0 || id >= int(rewards.size())) continue;
+    rewards[id] = io[a.team].reward(a.slot);
+    group[id] = io[a.team].group_reward(a.slot);
+    any = any || rewards[id] != 0.0f || group[id] != 0.0f;
+  }
+  if (!any) return;
+  frame.rewards = std::move(rewards);
+  frame.group_rewards = std::move(group);
 }
 
 bool HideAndSeek::take_recording(EpisodeRecording& out) {

@@ -172,6 +172,8 @@ class HideAndSeek : public Env {
   void write_mask(BehaviorView& view, const Agent& agent) const;
   void end_episode(StepView& io, bool terminated);
   void record_frame();
+  // the rewards of the decision just taken, on its last recorded frame
+  void record_rewards(StepView& io);
   // the sensors' copies of the world, refreshed once per step before observations are written
   void update_sensor_scene();
   // an event for the recording: `body` did it to `other` (or to the thing numbered `index`)

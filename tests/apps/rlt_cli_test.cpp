@@ -319,7 +319,7 @@ TEST_F(RltCliTest, EvalRecordsEpisodesAsJson) {
                  quote(file.string()));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string text = read_file(file);
-  ASSERT_EQ(text.rfind("{\"format\":\"rlt-recording\",\"version\":1,\"episodes\":[", 0), 0u)
+  ASSERT_EQ(text.rfind("{\"format\":\"rlt-recording\",\"version\":2,\"episodes\":[", 0), 0u)
       << text.substr(0, 200);
   EXPECT_EQ(text.substr(text.size() - 3), "]}\n");
   // two episodes, with bodies of every kind there is at level 1, and the hider's events
@@ -332,6 +332,13 @@ TEST_F(RltCliTest, EvalRecordsEpisodesAsJson) {
                            "\"kind\":\"seeker\"", "\"type\":\"grab\"", "\"type\":\"lock\"",
                            "\"type\":\"closed\"", "\"type\":\"prep_end\""})
     EXPECT_NE(text.find(kind), std::string::npos) << kind;
+  // version 2: the drones' vision cones, the openings (level 1: the first doorway open), rewards
+  EXPECT_NE(text.find("\"vision\":{\"cone_degrees\":"), std::string::npos);
+  EXPECT_NE(text.find("\"openings\":[\n{\"kind\":\"doorway\",\"centre\":[0,"), std::string::npos);
+  EXPECT_NE(text.find("\"open\":true}"), std::string::npos);
+  EXPECT_NE(text.find("\"open\":false}"), std::string::npos);
+  EXPECT_NE(text.find(",\"rewards\":["), std::string::npos);
+  EXPECT_NE(text.find(",\"group_rewards\":["), std::string::npos);
 }
 
 TEST_F(RltCliTest, EvalNamesBadPoliciesAndParameters) {

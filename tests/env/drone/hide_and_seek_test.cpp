@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "env/register_builtin_envs.h"
 #include "rl/env_api/conformance.h"
@@ -454,6 +455,51 @@ TEST(HideAndSeekTest, ScriptedSeekerTagsAStillHider) {
     tagged += g.env.episode_metrics().at("tag_rate") == 1.0f;
   }
   EXPECT_GE(tagged, 16) << tagged << " of 20";
+}
+
+TEST(HideAndSeekTest, RecordingHoldsTheOpeningsTheConesAndEveryRewardPaid) {
+  Game g({{"level", 1.f}, {"episode_frames", 1500.f}}, 3);
+  g.env.set_recording(true);
+  g.harness.reset();
+  std::map<int, double> paid, group_paid;  // by agent id, from the step buffers
+  while (!g.over()) {
+    g.script(HideAndSeek::kHider);
+    g.script(HideAndSeek::kSeeker);
+    g.harness.step();
+    for (auto* b : {&g.hiders(), &g.seekers()})
+      for (int r = 0; r < b->rows; ++r)
+        if (b->step_type[r] != StepType::kAbsent) {
+          paid[b->agent_id[r]] += b->reward[r];
+          group_paid[b->agent_id[r]] += b->group_reward[r];
+        }
+  }
+  EpisodeRecording rec;
+  ASSERT_TRUE(g.env.take_recording(rec));
+  std::map<int, double> recorded, group_recorded;
+  for (const RecordedFrame& f : rec.frames)
+    for (size_t id = 0; id < f.rewards.size(); ++id) {
+      recorded[int(id)] += f.rewards[id];
+      group_recorded[int(id)] += f.group_rewards[id];
+    }
+  ASSERT_FALSE(paid.empty());
+  double total = 0;
+  for (const auto& [id, sum] : paid) {
+    EXPECT_NEAR(recorded[id], sum, 1e-4) << "agent " << id;
+    EXPECT_NEAR(group_recorded[id], group_paid[id], 1e-4) << "agent " << id;
+    total += std::abs(sum) + std::abs(group_paid[id]);
+  }
+  EXPECT_GT(total, 0.1);  // the scripted hider closes the doorway: rewards were paid
+  // level 1: the first doorway open, the rest filled
+  ASSERT_EQ(rec.openings.size(), 4u);
+  EXPECT_EQ(rec.openings[0].kind, "doorway");
+  EXPECT_TRUE(rec.openings[0].open);
+  EXPECT_FALSE(rec.openings[1].open);
+  EXPECT_EQ(rec.openings[2].kind, "window");
+  for (const RecordedBody& b : rec.bodies) {
+    const bool drone = b.kind == "hider" || b.kind == "seeker";
+    EXPECT_EQ(b.vision_range > 0, drone) << b.kind;
+    if (drone) EXPECT_GT(b.vision_cone_degrees, 0);
+  }
 }
 
 }  // namespace
