@@ -12,6 +12,7 @@ int run_export(const std::vector<std::string>& args);
 int run_envs(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
 int run_plot(const std::vector<std::string>& args);
+int run_replay(const std::vector<std::string>& args);
 
 extern const char* const kTrainHelp;
 extern const char* const kEvalHelp;
@@ -19,5 +20,6 @@ extern const char* const kExportHelp;
 extern const char* const kEnvsHelp;
 extern const char* const kBenchHelp;
 extern const char* const kPlotHelp;
+extern const char* const kReplayHelp;
 
 }  // namespace rlt

@@ -50,7 +50,8 @@ fi
 if [ "$ENV_ID" = "HideAndSeek" ]; then
   "$RLT" eval "$RUN" --episodes 1 --record "$RUN/replay.json" > /dev/null
   echo
-  echo "Replay of one evaluation episode: $RUN/replay.json (format: docs/recording_format.md)"
+  echo "Replay of one evaluation episode: $RUN/replay.json (watch it: $RLT replay $RUN/replay.json)"
 fi
+"$RLT" plot "$RUN" > /dev/null && echo "Learning curves: $RUN/plots/ (rlt plot)"
 echo "Strategies (training_status.json):"
 sed -n '/"strategies"/,/^  }/p' "$RUN/training_status.json" | sed '1d;$d'
