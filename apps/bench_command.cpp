@@ -2,25 +2,30 @@
 #include <chrono>
 #include <iostream>
 #include <memory>
-#include <thread>
 #include <sstream>
+#include <thread>
 
 #include "apps/command_line.h"
 #include "apps/commands.h"
+#include "apps/local_launcher.h"
 #include "rl/config/config_parser.h"
 #include "rl/core/compute_threads.h"
 #include "rl/core/json.h"
+#include "rl/distributed/gloo_communicator.h"
 #include "rl/trainer/behavior_policy.h"
 #include "rl/trainer/training_run.h"
 
 namespace rlt {
 
 const char* const kBenchHelp = R"(Usage:
-  rlt bench train CONFIG [--steps N] [--num-envs N] [--threads T] [--seed S] [--json]
+  rlt bench train CONFIG [--steps N] [--num-envs N] [--threads T] [--seed S] [--nproc R] [--json]
       trains CONFIG for N agent steps per behavior (default 100000) without writing a run folder
       and reports env_steps_per_s and agent_steps_per_s, end to end (acting, env, learning),
       where the time went, and learner_gflops: the updates' matrix-product operations (counted
-      from the layer shapes) per second of update time.
+      from the layer shapes) per second of update time. --nproc R trains with R data-parallel
+      ranks on this machine (as rlt train --nproc; the rates are of all ranks together, each with
+      --num-envs instances); parameters gives each behavior's trained parameters, whose
+      gradient (4 bytes each) is all-reduced once per minibatch.
   rlt bench env ID [--frames N] [--num-envs N] [--threads T] [--param NAME=VALUE]... [--json]
       runs N frames (default 100000) with uniform random actions and reports frames_per_s and
       env_steps_per_s. A frame is a physics frame in the drone envs (a step is decision_period
@@ -33,9 +38,20 @@ const char* const kBenchHelp = R"(Usage:
 
 namespace {
 
-int bench_train(const CommandLine& cl) {
+int bench_train(const CommandLine& cl, const std::vector<std::string>& args) {
   if (cl.positional().size() != 2) throw UsageError("expected: bench train CONFIG");
+  LaunchSettings launch = launch_settings_from_environment();
+  const int nproc = int(cl.integer("--nproc", 1, 1));
+  if (nproc > 1) {
+    if (launch.distributed())
+      throw UsageError("--nproc starts its own ranks, but WORLD_SIZE is set");
+    return launch_local_ranks(nproc, rank_command("bench", args, nproc),
+                              launch.timeout_seconds + 10);
+  }
+  std::unique_ptr<Communicator> communicator;
+  if (launch.distributed()) communicator = connect_gloo(launch);
   TrainOptions opt;
+  opt.communicator = communicator.get();
   opt.write_results = false;
   opt.progress = false;
   opt.max_steps = cl.integer("--steps", 100000, 1);
@@ -46,17 +62,27 @@ int bench_train(const CommandLine& cl) {
   opt.log = &quiet;
   TrainingRun run(load_run_config(cl.positional()[1]), opt);
   TrainResult r = run.train();
-  const double env_rate = r.env_steps / r.seconds, agent_rate = r.agent_steps / r.seconds;
+  if (launch.rank != 0) return 0;  // rank 0 reports for all
+  // every rank steps as many env steps as rank 0 (they step together); agent steps are summed
+  const double env_rate = double(r.env_steps) * launch.world_size / r.seconds,
+               agent_rate = r.agent_steps / r.seconds;
+  std::string parameters;
+  for (int b = 0; b < run.num_trainers(); ++b)
+    parameters += (b ? "," : "") + json_string(run.trainer(b).behavior()) + ":" +
+                  std::to_string(run.trainer(b).flat_parameters().numel());
   const double learner_gflops =
       r.update_seconds > 0 ? r.update_matmul_flops / r.update_seconds * 1e-9 : 0.0;
   if (cl.has("--json")) {
-    std::cout << "{\"env_steps_per_s\":" << json_number(env_rate) << ",\"agent_steps_per_s\":"
-              << json_number(agent_rate) << ",\"seconds\":" << json_number(r.seconds)
-              << ",\"agent_steps\":" << r.agent_steps << ",\"acting_s\":" << json_number(r.acting_seconds)
+    std::cout << "{\"env_steps_per_s\":" << json_number(env_rate)
+              << ",\"agent_steps_per_s\":" << json_number(agent_rate)
+              << ",\"seconds\":" << json_number(r.seconds) << ",\"agent_steps\":" << r.agent_steps
+              << ",\"acting_s\":" << json_number(r.acting_seconds)
               << ",\"env_s\":" << json_number(r.env_seconds)
               << ",\"trajectory_s\":" << json_number(r.trajectory_seconds)
               << ",\"update_s\":" << json_number(r.update_seconds)
-              << ",\"learner_gflops\":" << json_number(learner_gflops) << "}" << std::endl;
+              << ",\"learner_gflops\":" << json_number(learner_gflops)
+              << ",\"ranks\":" << launch.world_size << ",\"parameters\":{" << parameters << "}}"
+              << std::endl;
   } else {
     std::cout << r.agent_steps << " agent steps in " << r.seconds << " s: " << env_rate
               << " env steps/s, " << agent_rate << " agent steps/s (acting " << r.acting_seconds
@@ -143,10 +169,12 @@ int bench_gemm(const CommandLine& cl) {
 }  // namespace
 
 int run_bench(const std::vector<std::string>& args) {
-  CommandLine cl(args, {"--json"}, {"--steps", "--frames", "--num-envs", "--threads", "--seed", "--param", "--size"});
+  CommandLine cl(
+      args, {"--json"},
+      {"--steps", "--frames", "--num-envs", "--threads", "--seed", "--param", "--size", "--nproc"});
   if (cl.positional().empty()) throw UsageError("expected 'train', 'env' or 'gemm'");
   if (cl.positional()[0] == "gemm") return bench_gemm(cl);
-  if (cl.positional()[0] == "train") return bench_train(cl);
+  if (cl.positional()[0] == "train") return bench_train(cl, args);
   if (cl.positional()[0] == "env") return bench_env(cl);
   throw UsageError("unknown benchmark '" + cl.positional()[0] + "'");
 }

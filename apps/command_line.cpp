@@ -1,5 +1,8 @@
 #include "apps/command_line.h"
 
+#include <cmath>
+#include <sstream>
+
 namespace rlt {
 
 CommandLine::CommandLine(const std::vector<std::string>& args, const std::set<std::string>& switches,
@@ -58,6 +61,26 @@ long long CommandLine::integer(const std::string& flag, long long fallback, long
   if (n < min_value)
     throw UsageError(flag + ": must be at least " + std::to_string(min_value) + ", got " + v);
   return n;
+}
+
+double CommandLine::number(const std::string& flag, double fallback, double low,
+                           double below) const {
+  if (!has(flag)) return fallback;
+  const std::string v = value(flag);
+  size_t used = 0;
+  double x = 0;
+  try {
+    x = std::stod(v, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (used != v.size() || v.empty() || !std::isfinite(x))
+    throw UsageError(flag + ": expected a number, got '" + v + "'");
+  std::ostringstream range;
+  range << "at least " << low;
+  if (std::isfinite(below)) range << " and below " << below;
+  if (!(x >= low && x < below)) throw UsageError(flag + ": must be " + range.str() + ", got " + v);
+  return x;
 }
 
 Parameters CommandLine::parameters() const {

@@ -1,6 +1,7 @@
 // A small command-line parser for `rlt`: positional arguments and --flags with or without values.
 #pragma once
 
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -27,6 +28,9 @@ class CommandLine {
   std::string value(const std::string& flag, const std::string& fallback = "") const;
   std::vector<std::string> values(const std::string& flag) const;
   long long integer(const std::string& flag, long long fallback, long long min_value) const;
+  // a number in [low, below); a malformed or out-of-range one is a UsageError naming the flag
+  double number(const std::string& flag, double fallback, double low,
+                double below = std::numeric_limits<double>::infinity()) const;
   // every --param NAME=VALUE (VALUE a number); a malformed one is a UsageError naming it
   Parameters parameters() const;
 

@@ -38,18 +38,7 @@ int run_plot(const std::vector<std::string>& args) {
   CommandLine cl(args, {}, {"--out", "--smoothing"});
   const auto& dirs = cl.positional();
   if (dirs.empty()) throw UsageError("expected at least one RUN_DIR");
-  double smoothing = 0.6;
-  if (cl.has("--smoothing")) {
-    const std::string text = cl.value("--smoothing");
-    size_t used = 0;
-    try {
-      smoothing = std::stod(text, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != text.size() || !(smoothing >= 0 && smoothing < 1))
-      throw UsageError("--smoothing must be a number in [0, 1), got '" + text + "'");
-  }
+  const double smoothing = cl.number("--smoothing", 0.6, 0, 1);
   // runs are named by their folder, or by the path given when two folders share a name
   std::set<std::string> names, repeated;
   for (const auto& d : dirs) {

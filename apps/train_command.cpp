@@ -1,8 +1,12 @@
+#include <algorithm>
 #include <iostream>
+#include <thread>
 
 #include "apps/command_line.h"
 #include "apps/commands.h"
+#include "apps/local_launcher.h"
 #include "rl/config/config_parser.h"
+#include "rl/distributed/gloo_communicator.h"
 #include "rl/env_api/env_registry.h"
 #include "rl/trainer/training_run.h"
 
@@ -32,14 +36,35 @@ Options:
                          environment_parameters controls), e.g. --param unseen_reward=-0.001
   --threads T            environment threads (default: all cores); the learner's matrix products
                          use them too when the network is large (first layer >= 65536 weights)
+  --nproc N              train with N data-parallel ranks on this machine (see below)
+  --dist-timeout S       seconds a rank may stay silent before the others stop (default 60)
 An existing run id without --resume or --force is an error that touches nothing.
+
+Distributed training (LibTorch's c10d with Gloo): every rank runs its own env_settings.num_envs
+environments and a replica of each learner; gradients are averaged over the ranks, so every rank
+applies the same update. buffer_size and batch_size are totals over the ranks. Rank 0 writes the
+run folder. The ranks find each other through torchrun's variables (MASTER_ADDR, MASTER_PORT,
+WORLD_SIZE, RANK, LOCAL_RANK), so `torchrun --no-python --nproc-per-node 2 rlt train CONFIG` or a
+cluster launcher can start them; --nproc N starts N local ranks itself. A rank that dies makes the
+others stop within --dist-timeout with an error naming it; --resume continues from the last
+checkpoint.
 )";
 
 int run_train(const std::vector<std::string>& args) {
   CommandLine cl(args, {"--resume", "--force"},
                  {"--run-id", "--results-dir", "--initialize-from", "--num-envs", "--seed",
-                  "--max-steps", "--threads", "--param"});
+                  "--max-steps", "--threads", "--param", "--nproc", "--dist-timeout"});
   if (cl.positional().size() != 1) throw UsageError("expected one CONFIG file");
+  LaunchSettings launch = launch_settings_from_environment();
+  launch.timeout_seconds = cl.number("--dist-timeout", 60, 1);
+  const int nproc = int(cl.integer("--nproc", 1, 1));
+  if (nproc > 1) {
+    if (launch.distributed())
+      throw UsageError("--nproc starts its own ranks, but WORLD_SIZE=" +
+                       std::to_string(launch.world_size) + " is set: use one or the other");
+    return launch_local_ranks(nproc, rank_command("train", args, nproc),
+                              launch.timeout_seconds + 10);
+  }
   TrainOptions opt;
   opt.run_id = cl.value("--run-id");
   opt.results_dir = cl.value("--results-dir");
@@ -62,10 +87,18 @@ int run_train(const std::vector<std::string>& args) {
     throw ConfigError(config.source_file, "env_settings.env_id", 0,
                       "unknown environment '" + env_id + "' (known: " + known + ")");
   }
+  std::unique_ptr<Communicator> communicator;
+  if (launch.distributed()) communicator = connect_gloo(launch);
+  opt.communicator = communicator.get();
   TrainingRun run(std::move(config), opt);
-  std::cout << "Training " << run.config().env_settings.env_id << " into "
-            << run.folder()->path() << " (" << run.config().env_settings.num_envs
-            << " environments)" << std::endl;
+  if (launch.rank != 0) {  // rank 0 reports for all
+    run.train();
+    return 0;
+  }
+  std::cout << "Training " << run.config().env_settings.env_id << " into " << run.folder()->path()
+            << " (" << run.config().env_settings.num_envs << " environments";
+  if (launch.distributed()) std::cout << " on each of " << launch.world_size << " ranks";
+  std::cout << ")" << std::endl;
   auto result = run.train();
   std::cout << "Done in " << result.seconds << " s: " << result.agent_steps << " agent steps ("
             << int64_t(result.agent_steps / std::max(1e-9, result.seconds)) << "/s).\n"

@@ -24,8 +24,14 @@ void RunningNormalizer::update(const float* data, int64_t rows) {
       bvar[i] += d * d;
     }
   for (int i = 0; i < n; ++i) bvar[i] /= double(rows);
-  // merge with the running statistics
-  const double total = count_ + double(rows);
+  merge(double(rows), bmean, bvar);
+}
+
+void RunningNormalizer::merge(double rows, const std::vector<double>& bmean,
+                              const std::vector<double>& bvar) {
+  if (rows <= 0) return;
+  const int n = size();
+  const double total = count_ + rows;
   for (int i = 0; i < n; ++i) {
     if (count_ == 0) {
       mean_[i] = bmean[i];

@@ -23,6 +23,9 @@ class RunningNormalizer {
 
   // Folds `rows` observations (row-major [rows, size]) into the statistics.
   void update(const float* data, int64_t rows);
+  // Folds in the statistics of `rows` observations seen elsewhere (their mean and population
+  // variance, [size] each): what update does after computing them.
+  void merge(double rows, const std::vector<double>& mean, const std::vector<double>& variance);
 
   // normalized = clamp((x - mean) / sqrt(var + 1e-8), -5, 5), applied to [rows, size] in place
   void normalize(float* data, int64_t rows) const;

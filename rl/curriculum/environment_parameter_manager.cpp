@@ -261,6 +261,30 @@ LessonUpdate EnvironmentParameterManager::update(
   return result;
 }
 
+LessonUpdate EnvironmentParameterManager::follow(const std::map<std::string, int>& lessons) {
+  LessonUpdate result;
+  for (auto& [name, state] : state_) {
+    const auto it = lessons.find(name);
+    if (it == lessons.end() || it->second == state.lesson) continue;
+    const auto& curriculum = settings_.at(name).curriculum;
+    if (it->second < 0 || it->second >= int(curriculum.size()))
+      throw std::invalid_argument("lesson " + std::to_string(it->second) + " of " + name +
+                                  " does not exist");
+    // the criteria of the lessons left decide require_reset, as in update()
+    for (int l = state.lesson; l < it->second; ++l) {
+      const auto& criteria = curriculum[l].completion_criteria;
+      if (criteria && criteria->require_reset) result.require_reset = true;
+    }
+    state.lesson = it->second;
+    result.changed = true;
+  }
+  if (result.changed) {
+    for (auto& [behavior, rewards] : rewards_) rewards.clear();
+    for (auto& [metric, values] : metrics_) values.clear();
+  }
+  return result;
+}
+
 std::string EnvironmentParameterManager::serialize() const {
   std::string text = "{\"parameters\": {";
   bool first = true;

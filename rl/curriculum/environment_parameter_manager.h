@@ -94,6 +94,10 @@ class EnvironmentParameterManager {
   // Advances the lessons whose completion criteria are met (see the top of the file). A behavior
   // missing from `progress` has no trainer yet: the lessons that measure it go on.
   LessonUpdate update(const std::map<std::string, BehaviorProgress>& progress);
+  // Moves to the lessons another manager decided (data-parallel training: rank 0 decides, the
+  // others follow): what update() returns when it moved them, buffers cleared alike. Lessons that
+  // `lessons` does not name stay.
+  LessonUpdate follow(const std::map<std::string, int>& lessons);
 
   // The state (lessons, smoothed values, reward buffers) as one JSON object, with every number
   // written so that it reads back bit for bit. Also valid YAML.

@@ -109,10 +109,7 @@ void PocaTrainer::finish(const BehaviorBuffers& buf, int row, bool terminal) {
   auto& t = trajectories_[row];
   auto& rewards = rewards_[row];
   const int64_t n = int64_t(rewards.size());
-  if (config_.network_settings.normalize) {
-    normalizer_.update(t.obs.data(), n);
-    actor_stale_ = true;
-  }
+  fold_observations(t.obs.data(), n);
   torch::NoGradGuard no_grad;
   // group value and counterfactual baseline of every step
   const int64_t used = packed_others(t.others_present, n);  // the slots after these are empty
@@ -160,6 +157,7 @@ UpdateStats PocaTrainer::update() {
   const int64_t n = buffer_.size();
   stats.experiences = n;
   fill_schedules(stats);
+  sync_normalizer();
 
   // the buffer as tensors
   // only the member slots some experience uses (U <= O; slots are packed, present first)
@@ -176,14 +174,14 @@ UpdateStats PocaTrainer::update() {
   auto disc = torch::from_blob(buffer_.discrete.data(), {n, s.num_branches()}, torch::kInt64); // [N, K]
   auto mask = torch::from_blob(buffer_.mask.data(), {n, s.mask_size()});                       // [N, M]
   auto adv = torch::from_blob(buffer_.advantages.data(), {n});                                 // [N]
-  adv = (adv - adv.mean()) / (adv.std() + 1e-10f);
+  adv = normalize_advantages(adv);
   auto old = torch::stack({torch::from_blob(buffer_.log_prob.data(), {n}), adv,
                            torch::from_blob(buffer_.value.data(), {n}),
                            torch::from_blob(buffer_.baseline.data(), {n}),
                            torch::from_blob(buffer_.returns.data(), {n})},
                           1);  // [N, 5]
 
-  const int64_t bs = hp.batch_size, batches = n / bs;
+  const int64_t bs = local_batch_size(), batches = agreed_batches(n);  // this rank's share
   double sums[4] = {0, 0, 0, 0};  // policy, value, baseline, entropy
   for (int epoch = 0; epoch < hp.num_epoch; ++epoch) {
     auto perm = permutation(n);
@@ -222,6 +220,7 @@ UpdateStats PocaTrainer::update() {
       }
       optimizer_->zero_grad();
       total.backward();
+      reduce_gradients();
       if (hp.max_grad_norm > 0) optimizer_->clip_grad_norm(hp.max_grad_norm);
       optimizer_->step(stats.learning_rate);
       sums[0] += l.policy.item<float>();

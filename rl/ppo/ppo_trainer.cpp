@@ -36,10 +36,7 @@ void PpoTrainer::finish(int row, float bootstrap_value) {
   t.returns.resize(n);
   compute_gae(rewards.data(), t.value.data(), n, bootstrap_value, config_.extrinsic.gamma,
               config_.hyperparameters.lambd, t.advantages.data(), t.returns.data());
-  if (config_.network_settings.normalize) {
-    normalizer_.update(t.obs.data(), n);
-    actor_stale_ = true;
-  }
+  fold_observations(t.obs.data(), n);
   buffer_.append(t);
   t.clear();
   rewards.clear();
@@ -51,6 +48,7 @@ UpdateStats PpoTrainer::update() {
   const int64_t n = buffer_.size();
   stats.experiences = n;
   fill_schedules(stats);
+  sync_normalizer();
 
   // the buffer as tensors (no copy), observations normalized once
   const auto& s = spec_.action;
@@ -62,10 +60,10 @@ UpdateStats PpoTrainer::update() {
   auto old_value = torch::from_blob(buffer_.value.data(), {n});                     // [N]
   auto returns = torch::from_blob(buffer_.returns.data(), {n});                     // [N]
   auto adv = torch::from_blob(buffer_.advantages.data(), {n});                      // [N]
-  adv = (adv - adv.mean()) / (adv.std() + 1e-10f);
+  adv = normalize_advantages(adv);
 
-  const int64_t bs = hp.batch_size;
-  const int64_t batches = n / bs;
+  const int64_t bs = local_batch_size();  // batch_size, or this rank's share of it
+  const int64_t batches = agreed_batches(n);
   double sum_policy = 0, sum_value = 0, sum_entropy = 0;
   for (int epoch = 0; epoch < hp.num_epoch; ++epoch) {
     // one gather per tensor and epoch; minibatches are slices
@@ -93,6 +91,7 @@ UpdateStats PpoTrainer::update() {
            << ", entropy " << l.entropy << ")";
         throw BadNumberError(os.str());
       }
+      reduce_gradients();
       if (hp.max_grad_norm > 0) optimizer_->clip_grad_norm(hp.max_grad_norm);
       optimizer_->step(stats.learning_rate);
       sum_policy += l.policy;

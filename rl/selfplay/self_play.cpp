@@ -198,6 +198,27 @@ void SelfPlay::swap_opponents() {
   }
 }
 
+std::vector<double> SelfPlay::elo_state() const {
+  std::vector<double> state;
+  for (const Pool& pool : pools_) {
+    state.push_back(pool.elo);
+    const int window = settings(pool.behavior).window;  // [window] snapshot ratings, 0 if empty
+    for (int i = 0; i < window; ++i)
+      state.push_back(i < int(pool.snapshots.size()) ? pool.snapshots[i].elo : 0.0);
+  }
+  return state;
+}
+
+void SelfPlay::set_elo_state(const std::vector<double>& state) {
+  size_t at = 0;
+  for (Pool& pool : pools_) {
+    pool.elo = state.at(at++);
+    const int window = settings(pool.behavior).window;
+    for (int i = 0; i < window; ++i, ++at)
+      if (i < int(pool.snapshots.size())) pool.snapshots[i].elo = state.at(at);
+  }
+}
+
 double SelfPlay::elo(int b) const {
   for (const auto& p : pools_)
     if (p.behavior == b) return p.elo;

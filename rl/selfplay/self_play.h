@@ -50,6 +50,10 @@ class SelfPlay {
 
   // ELO of behavior b's learner (initial_elo without self_play)
   double elo(int b) const;
+  // every rating (learners and snapshots) as numbers, the same length on every rank of a
+  // data-parallel run; set_elo_state takes rank 0's
+  std::vector<double> elo_state() const;
+  void set_elo_state(const std::vector<double>& state);
   // the learning team, as "Behavior:group", for summaries
   std::string learning_team_name() const;
 

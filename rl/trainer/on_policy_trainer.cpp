@@ -8,6 +8,7 @@
 #include "rl/core/action_distribution.h"
 #include "rl/core/archive_io.h"
 #include "rl/core/bad_numbers.h"
+#include "rl/distributed/data_parallel.h"
 
 namespace rlt {
 
@@ -273,6 +274,61 @@ void OnPolicyTrainer::load(torch::serialize::InputArchive& a) {
   episode_stats_.returns = read_vector<float>(a, "episodes.returns");
   episode_stats_.lengths = read_vector<float>(a, "episodes.lengths");
   episode_stats_.group_returns = read_vector<float>(a, "episodes.group_returns");
+}
+
+void OnPolicyTrainer::set_communicator(Communicator* comm) {
+  comm_ = comm && comm->world_size() > 1 ? comm : nullptr;
+  pending_normalizer_ = RunningNormalizer(obs_size_);
+  if (!comm_) return;
+  const auto& hp = config_.hyperparameters;
+  const int w = comm_->world_size();
+  if (hp.batch_size % w != 0 || hp.buffer_size % w != 0)
+    throw std::invalid_argument("behavior " + spec_.name + ": batch_size " +
+                                std::to_string(hp.batch_size) + " and buffer_size " +
+                                std::to_string(hp.buffer_size) + " must divide among " +
+                                std::to_string(w) + " ranks");
+}
+
+void OnPolicyTrainer::broadcast_parameters(int root) {
+  if (!comm_) return;
+  torch::Tensor p = optimizer_->flat_parameters();  // [P], shares the storage
+  comm_->broadcast(p, root, "sharing the initial parameters");
+  actor_stale_ = true;
+}
+
+void OnPolicyTrainer::fold_observations(const float* obs, int64_t rows) {
+  if (!config_.network_settings.normalize) return;
+  if (comm_) {
+    pending_normalizer_.update(obs, rows);
+  } else {
+    normalizer_.update(obs, rows);
+    actor_stale_ = true;
+  }
+}
+
+void OnPolicyTrainer::sync_normalizer() {
+  if (!comm_ || !config_.network_settings.normalize) return;
+  merge_normalizers(*comm_, normalizer_, pending_normalizer_);
+  actor_stale_ = true;
+}
+
+int64_t OnPolicyTrainer::local_batch_size() const {
+  return config_.hyperparameters.batch_size / (comm_ ? comm_->world_size() : 1);
+}
+
+int64_t OnPolicyTrainer::agreed_batches(int64_t n) {
+  const int64_t mine = n / local_batch_size();
+  return comm_ ? global_min(*comm_, mine, "agreeing on the minibatches") : mine;
+}
+
+torch::Tensor OnPolicyTrainer::normalize_advantages(const torch::Tensor& adv) {
+  if (!comm_) return (adv - adv.mean()) / (adv.std() + 1e-10f);
+  const auto [mean, std] = global_mean_std(*comm_, adv);
+  return (adv - float(mean)) / (float(std) + 1e-10f);
+}
+
+void OnPolicyTrainer::reduce_gradients() {
+  if (comm_) average_gradients(*comm_, optimizer_->flat_gradients());
 }
 
 }  // namespace rlt

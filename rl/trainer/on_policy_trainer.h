@@ -20,6 +20,7 @@
 #include "rl/core/flat_adam.h"
 #include "rl/core/policy_network.h"
 #include "rl/core/running_normalizer.h"
+#include "rl/distributed/communicator.h"
 #include "rl/env_api/step_buffers.h"
 
 namespace rlt {
@@ -66,6 +67,19 @@ class OnPolicyTrainer {
 
   bool update_ready() const { return buffer_.size() >= config_.hyperparameters.buffer_size; }
   virtual UpdateStats update() = 0;
+
+  // Data-parallel training: this learner is one replica of `comm->world_size()` that agree on
+  // every update (rl/distributed/data_parallel.h); nullptr trains alone. buffer_size and
+  // batch_size are then the totals over the ranks: each rank takes its share of every minibatch.
+  void set_communicator(Communicator* comm);
+  // experiences in the update buffer of this rank
+  int64_t buffered() const { return buffer_.size(); }
+  // the step counter as the ranks agreed it (their decisions summed)
+  void set_step(int64_t step) { step_ = step; }
+  // every trained parameter, [P] (the network and extra_parameters())
+  const torch::Tensor& flat_parameters() const { return optimizer_->flat_parameters(); }
+  // root's parameters on every rank (the replicas start equal)
+  void broadcast_parameters(int root);
 
   EpisodeStats take_episode_stats();
 
@@ -114,6 +128,19 @@ class OnPolicyTrainer {
   void fill_schedules(UpdateStats& stats) const;
   // fresh permutation of [0, n) from the trainer's engine
   std::vector<int64_t> permutation(int64_t n);
+  // folds a trajectory's observations ([rows, obs_size]) into the normalizer: at once when alone;
+  // when data-parallel at the next update, with every rank's (sync_normalizer)
+  void fold_observations(const float* obs, int64_t rows);
+  // Called as an update starts: merges the ranks' new observations into the normalizer.
+  void sync_normalizer();
+  // this rank's rows per minibatch: batch_size over the ranks
+  int64_t local_batch_size() const;
+  // the minibatches per epoch every rank can fill from `n` rows of its own
+  int64_t agreed_batches(int64_t n);
+  // (adv - mean) / (std + 1e-10) with the mean and std over every rank's advantages ([N])
+  torch::Tensor normalize_advantages(const torch::Tensor& adv);
+  // the minibatch gradient as the mean over ranks (before clipping and the optimizer step)
+  void reduce_gradients();
   void refresh_actor();
   // builds the optimizer over the network and extra_parameters(); derived constructors call it
   void create_optimizer();
@@ -139,6 +166,8 @@ class OnPolicyTrainer {
   std::vector<int> episode_length_;            // [rows]
   ExperienceBuffer buffer_;                    // the update buffer
   EpisodeStats episode_stats_;
+  Communicator* comm_ = nullptr;          // data-parallel replicas, or alone
+  RunningNormalizer pending_normalizer_;  // this rank's observations since the last update
 
   // scratch reused across steps
   std::vector<int> act_rows_;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -17,9 +18,10 @@
 #include "rl/core/archive_io.h"
 #include "rl/core/compute_threads.h"
 #include "rl/core/json.h"
-#include "rl/core/sample_stats.h"
 #include "rl/core/policy_export.h"
+#include "rl/core/sample_stats.h"
 #include "rl/curriculum/environment_parameter_manager.h"
+#include "rl/distributed/data_parallel.h"
 #include "rl/trainer/trainer_factory.h"
 
 namespace fs = std::filesystem;
@@ -50,6 +52,11 @@ void truncate_metrics(const std::string& path, int64_t step) {
 TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     : config_(std::move(config)), options_(std::move(options)) {
   log_ = options_.log ? options_.log : &std::cout;
+  if (rank() != 0) {  // summaries and progress are rank 0's
+    static std::ostream discard(nullptr);
+    log_ = &discard;
+    options_.progress = false;
+  }
   // command-line overrides
   auto& cs = config_.checkpoint_settings;
   auto& es = config_.env_settings;
@@ -73,15 +80,17 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     if (config_.default_settings) config_.default_settings->max_steps = options_.max_steps;
   }
   seed_ = es.seed >= 0 ? uint64_t(es.seed) : 0;
+  rank_seed_ = seed_ + uint64_t(rank()) * 0x9E3779B97F4A7C15ull;
   int threads = es.num_threads > 0 ? es.num_threads : int(std::max(1u, std::thread::hardware_concurrency()));
   threads_ = threads;
   set_compute_threads(1);
   tune_allocator_for_training();
 
   // the environment and one trainer per behavior (all validation before anything is written)
-  env_ = std::make_unique<VectorEnv>(es.env_id, es.num_envs, seed_, es.params, std::min(threads, es.num_envs));
+  env_ = std::make_unique<VectorEnv>(es.env_id, es.num_envs, rank_seed_, es.params,
+                                     std::min(threads, es.num_envs));
   parameters_ = EnvironmentParameterManager(config_.environment_parameters);
-  parameter_rng_.seed(seed_ * 6151 + 11);
+  parameter_rng_.seed(rank_seed_ * 6151 + 11);
   env_->set_parameters(parameters_.sample(parameter_rng_));  // validates the names now
   env_->reset();  // and the values (envs check them at reset), before anything is written
   episode_epoch_.assign(env_->num_envs(), 0);
@@ -104,8 +113,9 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     if (options_.max_steps > 0) bc.max_steps = options_.max_steps;
     config_.behaviors[bs.name] = bc;
     torch::manual_seed(seed_ * 7919 + b);
-    trainers_.push_back(make_trainer(bs, bc, env_->buffers(b).rows,
-                                                     seed_ * 1000003 + 17 * b + 1, spec.name));
+    trainers_.push_back(
+        make_trainer(bs, bc, env_->buffers(b).rows, rank_seed_ * 1000003 + 17 * b + 1, spec.name));
+    trainers_.back()->set_communicator(options_.communicator);
   }
   std::vector<OnPolicyTrainer*> trainer_ptrs;
   for (auto& t : trainers_) trainer_ptrs.push_back(t.get());
@@ -124,8 +134,10 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
       throw std::invalid_argument("environment " + spec.name + ": strategy " + s.name +
                                   " is dated in steps of unknown behavior '" + s.behavior + "'");
 
-  if (!options_.write_results) return;
-  folder_ = std::make_unique<RunFolder>(cs.results_dir, cs.run_id);
+  if (!options_.write_results) {
+    for (auto& t : trainers_) t->broadcast_parameters(0);
+    return;
+  }
   std::string init_checkpoint;
   if (!cs.initialize_from.empty()) {
     RunFolder source(cs.results_dir, cs.initialize_from);
@@ -134,6 +146,22 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
       throw std::runtime_error(source.path() + " has no checkpoint to initialize from");
     init_checkpoint = source.file(st.checkpoints.back().file);
   }
+  if (rank() != 0) {
+    // the other ranks read what rank 0 wrote (the same folder, or a copy) and write nothing
+    RunFolder shared(cs.results_dir, cs.run_id);
+    if (cs.resume) {
+      const TrainingStatus st = shared.read_status();
+      if (!st.checkpoints.empty()) load_checkpoint(shared.file(st.checkpoints.back().file), false);
+    } else if (!init_checkpoint.empty()) {
+      load_checkpoint(init_checkpoint, true);
+      std::vector<OnPolicyTrainer*> ptrs;
+      for (auto& t : trainers_) ptrs.push_back(t.get());
+      self_play_ = std::make_unique<SelfPlay>(ptrs, seed_ * 7717 + 3);
+    }
+    for (auto& t : trainers_) t->broadcast_parameters(0);
+    return;
+  }
+  folder_ = std::make_unique<RunFolder>(cs.results_dir, cs.run_id);
   if (cs.resume) {
     if (!folder_->exists())
       throw std::runtime_error("cannot resume: run folder " + folder_->path() + " does not exist");
@@ -161,6 +189,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   }
   write_file_atomically(folder_->config_path(), run_config_to_yaml(config_));
   folder_->write_status(status_);
+  for (auto& t : trainers_) t->broadcast_parameters(0);
 }
 
 TrainingRun::~TrainingRun() = default;
@@ -171,7 +200,7 @@ double TrainingRun::elapsed() const {
 }
 
 uint64_t TrainingRun::boundary_seed(int64_t index) const {
-  return seed_ + uint64_t(index) * 0x9E3779B97F4A7C15ull;
+  return rank_seed_ + uint64_t(index) * 0x9E3779B97F4A7C15ull;
 }
 
 TrainResult TrainingRun::train(int stop_after_boundaries) {
@@ -184,6 +213,9 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
     next_summary_[b] = (trainers_[b]->step() / c.summary_freq + 1) * c.summary_freq;
     next_checkpoint_[b] = (trainers_[b]->step() / c.checkpoint_interval + 1) * c.checkpoint_interval;
   }
+  synced_step_.assign(nb, 0);
+  for (int b = 0; b < nb; ++b) synced_step_[b] = trainers_[b]->step();
+  ready_.assign(nb, 0);
   TrainResult result;
   int64_t start_steps = 0;
   for (auto& t : trainers_) start_steps += t->step();
@@ -229,6 +261,7 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
       if (options_.on_episode)
         for (float r : ep.returns) options_.on_episode(b, trainers_[b]->step(), r);
     }
+    if (distributed()) sync_ranks();
     if (self_play_->enabled()) self_play_->after_step(buffers, learner_rows_);
     const auto finished = env_->take_finished_episodes();
     for (const auto& f : finished) {
@@ -244,13 +277,14 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
     result.trajectory_seconds += seconds_since(t0);
     for (int b = 0; b < nb; ++b) {
       auto& t = *trainers_[b];
-      if (!t.finished() && t.update_ready()) {
+      if (!t.finished() && (distributed() ? ready_[b] != 0 : t.update_ready())) {
         t0 = Clock::now();
         const int learner_threads =
             update_threads(t.obs_size(), t.config().network_settings.hidden_units, threads_);
         if (learner_threads > 1) set_blas_threads(learner_threads);
         UpdateStats stats = t.update();
         if (learner_threads > 1) set_blas_threads(1);
+        if (distributed()) check_replicas(b);
         result.update_seconds += seconds_since(t0);
         result.update_matmul_flops += stats.matmul_flops;
         log_update(b, stats);
@@ -280,6 +314,64 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
   for (auto& t : trainers_) result.agent_steps += t->step();
   result.agent_steps -= start_steps;
   return result;
+}
+
+void TrainingRun::sync_ranks() {
+  Communicator& comm = *options_.communicator;
+  const int nb = num_trainers(), world = comm.world_size();
+  const std::map<std::string, int> lessons = parameters_.lessons();  // the same names on every rank
+  const std::vector<double> elo = self_play_->elo_state();
+  // this rank's slot: per behavior its decisions since the last sync and its buffered experiences;
+  // then rank 0's lessons and ratings (zeros elsewhere)
+  std::vector<double> mine;
+  for (int b = 0; b < nb; ++b) {
+    mine.push_back(double(trainers_[b]->step() - synced_step_[b]));
+    mine.push_back(double(trainers_[b]->buffered()));
+  }
+  for (const auto& [name, lesson] : lessons) mine.push_back(rank() == 0 ? lesson : 0);
+  for (double e : elo) mine.push_back(rank() == 0 ? e : 0);
+  const std::vector<double> all = comm.all_gather(mine, "agreeing on the steps");  // [W][stride]
+  const size_t stride = mine.size();
+  for (int b = 0; b < nb; ++b) {
+    double decisions = 0, buffered = 0, fewest = all[2 * b + 1];
+    for (int r = 0; r < world; ++r) {
+      decisions += all[r * stride + 2 * b];
+      buffered += all[r * stride + 2 * b + 1];
+      fewest = std::min(fewest, all[r * stride + 2 * b + 1]);
+    }
+    OnPolicyTrainer& t = *trainers_[b];
+    synced_step_[b] += int64_t(decisions);
+    t.set_step(synced_step_[b]);
+    // the buffers hold buffer_size together, and each rank at least its share of a minibatch
+    const auto& hp = t.config().hyperparameters;
+    ready_[b] = buffered >= double(hp.buffer_size) && fewest >= double(hp.batch_size / world);
+  }
+  if (rank() == 0) return;
+  size_t at = 2 * size_t(nb);
+  std::map<std::string, int> decided;
+  for (const auto& [name, lesson] : lessons) decided[name] = int(all[at++]);
+  const LessonUpdate u = parameters_.follow(decided);
+  pending_follow_.changed |= u.changed;
+  pending_follow_.require_reset |= u.require_reset;
+  self_play_->set_elo_state(std::vector<double>(all.begin() + at, all.begin() + at + elo.size()));
+}
+
+void TrainingRun::check_replicas(int b) {
+  OnPolicyTrainer& t = *trainers_[b];
+  // a fault-injection hook for the tests' negative control: this rank drifts by one ulp
+  if (const char* drift = std::getenv("RLT_TEST_DRIFT_RANK"); drift && std::atoi(drift) == rank()) {
+    torch::Tensor p = t.flat_parameters();  // [P], shares the storage
+    p[0] = std::nextafter(p[0].item<float>(), 1e30f);
+  }
+  // the hash in two exact halves (a double holds 53 bits)
+  const uint64_t hash = tensor_hash(t.flat_parameters());
+  const std::vector<double> all = options_.communicator->all_gather(
+      {double(hash >> 32), double(hash & 0xffffffffu)}, "comparing the replicas");
+  for (int r = 1; r < options_.communicator->world_size(); ++r)
+    if (all[2 * r] != all[0] || all[2 * r + 1] != all[1])
+      throw std::runtime_error("behavior " + t.behavior() + ", update " +
+                               std::to_string(t.updates()) + ": the parameters of rank " +
+                               std::to_string(r) + " differ from rank 0's");
 }
 
 void TrainingRun::boundary(bool final) {
@@ -320,7 +412,9 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
     if (episode_epoch_[f.env_index] == lesson_epoch_) parameters_.add_episode_metrics(f.metrics);
   std::map<std::string, BehaviorProgress> progress;
   for (auto& t : trainers_) progress[t->behavior()] = {t->step(), t->config().max_steps};
-  const LessonUpdate u = parameters_.update(progress);
+  // data-parallel: rank 0 decides; the others moved to its lessons in sync_ranks
+  const LessonUpdate u = rank() == 0 ? parameters_.update(progress) : pending_follow_;
+  pending_follow_ = LessonUpdate{};
   if (u.changed) ++lesson_epoch_;
   if (u.changed && u.require_reset) {
     // a lesson that asks for it restarts every episode now, from a deterministic point

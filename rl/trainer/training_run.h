@@ -44,6 +44,11 @@ struct TrainOptions {
   std::function<void(int, int64_t, float)> on_episode;
   // called for every finished env episode with the env's episode metrics
   std::function<void(const EpisodeMetrics&)> on_env_episode;
+  // Data-parallel training (not owned; null trains alone): this process is one rank, with its own
+  // environment instances (seeded apart from the other ranks') and a replica of every learner.
+  // The ranks agree after every env step on the steps and on when to update; rank 0 decides the
+  // lessons and the ELO, and it alone writes the run folder (the others read it to resume).
+  Communicator* communicator = nullptr;
 };
 
 struct TrainResult {
@@ -101,10 +106,21 @@ class TrainingRun {
   void show_progress(bool force);
   double elapsed() const;
   uint64_t boundary_seed(int64_t index) const;
+  // data-parallel: sums the ranks' new decisions into every trainer's step, decides which
+  // behaviors update now (ready_), and makes the other ranks follow rank 0's lessons and ELO
+  void sync_ranks();
+  // data-parallel: after an update every rank's parameters of behavior b hash alike, else throws
+  void check_replicas(int b);
+  bool distributed() const { return options_.communicator != nullptr; }
+  int rank() const { return distributed() ? options_.communicator->rank() : 0; }
 
   RunConfig config_;
   TrainOptions options_;
   uint64_t seed_ = 0;
+  uint64_t rank_seed_ = 0;  // seed_ on rank 0; the env and sampling streams of the other ranks
+  std::vector<int64_t> synced_step_;  // per behavior: the steps the ranks agreed at the last sync
+  std::vector<uint8_t> ready_;        // per behavior: the ranks update it now (sync_ranks)
+  LessonUpdate pending_follow_;       // ranks other than 0: rank 0's lesson change, to apply
   int threads_ = 1;  // cores for env stepping and large learner updates
   std::unique_ptr<RunFolder> folder_;
   std::unique_ptr<VectorEnv> env_;

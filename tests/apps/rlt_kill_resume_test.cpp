@@ -1,9 +1,7 @@
 // A training run killed with SIGKILL at arbitrary moments always leaves a readable status and
 // loadable checkpoints, and `rlt train --resume` continues from the newest complete checkpoint.
 #include <gtest/gtest.h>
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,29 +11,19 @@
 #include <random>
 #include <thread>
 
+#include "env/register_builtin_envs.h"
 #include "rl/trainer/run_folder.h"
 #include "rl/trainer/saved_run.h"
-#include "env/register_builtin_envs.h"
+#include "tests/apps/spawn_process.h"
 
-extern char** environ;
 namespace fs = std::filesystem;
 
 namespace rlt {
 namespace {
 
 pid_t spawn_rlt(const std::vector<std::string>& args, const fs::path& log) {
-  std::vector<std::string> all = {RLT_BINARY};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-  posix_spawn_file_actions_addopen(&actions, 2, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-  pid_t pid = -1;
-  EXPECT_EQ(posix_spawn(&pid, RLT_BINARY, &actions, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
+  const pid_t pid = test::spawn_process(RLT_BINARY, args, log.string());
+  EXPECT_GT(pid, 0);
   return pid;
 }
 

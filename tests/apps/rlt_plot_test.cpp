@@ -199,7 +199,8 @@ TEST_F(RltPlotTest, BadInputIsAClearError) {
   const fs::path run = make_run("run");
   r = rlt("plot '" + run.string() + "' --smoothing 1");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--smoothing must be a number in [0, 1)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--smoothing: must be at least 0 and below 1, got 1"), std::string::npos)
+      << r.err;
 
   // without gnuplot on PATH: named, with the package, and nothing drawn
   r = rlt("plot '" + run.string() + "'", "PATH=/nonexistent");
