@@ -44,7 +44,7 @@ Distributed training (LibTorch's c10d with Gloo): every rank runs its own env_se
 environments and a replica of each learner; gradients are averaged over the ranks, so every rank
 applies the same update. buffer_size and batch_size are totals over the ranks. Rank 0 writes the
 run folder. The ranks find each other through torchrun's variables (MASTER_ADDR, MASTER_PORT,
-WORLD_SIZE, RANK, LOCAL_RANK), so `torchrun --no-python --nproc-per-node 2 rlt train CONFIG` or a
+WORLD_SIZE, RANK, LOCAL_RANK), so `torchrun --no_python --nproc_per_node 2 rlt train CONFIG` or a
 cluster launcher can start them; --nproc N starts N local ranks itself. A rank that dies makes the
 others stop within --dist-timeout with an error naming it; --resume continues from the last
 checkpoint.

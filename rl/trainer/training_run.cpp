@@ -207,10 +207,12 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
   start_ = std::chrono::steady_clock::now();
   const int nb = num_trainers();
   next_summary_.assign(nb, 0);
+  summarized_step_.assign(nb, 0);
   next_checkpoint_.assign(nb, 0);
   for (int b = 0; b < nb; ++b) {
     const auto& c = trainers_[b]->config();
     next_summary_[b] = (trainers_[b]->step() / c.summary_freq + 1) * c.summary_freq;
+    summarized_step_[b] = trainers_[b]->step();
     next_checkpoint_[b] = (trainers_[b]->step() / c.checkpoint_interval + 1) * c.checkpoint_interval;
   }
   synced_step_.assign(nb, 0);
@@ -291,6 +293,7 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
       }
       if (t.step() >= next_summary_[b]) {
         summarize(b);
+        summarized_step_[b] = t.step();
         while (next_summary_[b] <= t.step()) next_summary_[b] += t.config().summary_freq;
       }
     }
@@ -306,7 +309,7 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
   if (all_finished()) {
     // a last summary of what happened since the previous one
     for (int b = 0; b < nb; ++b)
-      if (trainers_[b]->step() > next_summary_[b] - trainers_[b]->config().summary_freq) summarize(b);
+      if (trainers_[b]->step() > summarized_step_[b]) summarize(b);
     boundary(true);
   }
   show_progress(true);

@@ -138,6 +138,7 @@ class TrainingRun {
   double elapsed_before_ = 0;  // seconds trained before a resume
   std::chrono::steady_clock::time_point start_;
   std::vector<int64_t> next_summary_, next_checkpoint_;  // per behavior
+  std::vector<int64_t> summarized_step_;  // per behavior: its step at its last summary
   std::vector<std::vector<float>> summary_returns_;       // per behavior
   std::vector<std::vector<float>> summary_group_returns_; // per behavior
   std::vector<std::map<std::string, std::pair<double, int>>> summary_metrics_;  // per behavior: sum, count
