@@ -176,7 +176,7 @@ std::vector<Figure> learning_curve_figures(const std::vector<RunCurves>& runs, d
 
   // run-wide columns of metrics/episodes.csv
   Figure lessons{"lessons", {}}, strategies{"strategies", {}}, metrics{"episode_metrics", {}};
-  std::map<std::string, size_t> lesson_panel, metric_panel;
+  std::map<std::string, size_t> lesson_panel, metric_panel, strategy_panel;
   for (size_t r = 0; r < runs.size(); ++r) {
     const CsvTable& table = runs[r].episodes;
     const int run_colour = colours.at({r, runs[r].behaviors.front()});
@@ -197,19 +197,18 @@ std::vector<Figure> learning_curve_figures(const std::vector<RunCurves>& runs, d
     }
     for (const auto& st : runs[r].strategies) {
       const std::string column = "smoothed_" + st.metric + "_" + st.name;
-      auto found = std::find_if(strategies.panels.begin(), strategies.panels.end(),
-                                [&](const Panel& p) { return p.title.find(st.name) == 0; });
-      if (found == strategies.panels.end()) {
+      if (!strategy_panel.count(st.name)) {
+        strategy_panel[st.name] = strategies.panels.size();
         strategies.panels.push_back({st.name + ": " + st.metric + " over the last episodes",
                                      st.behavior + " steps",
                                      st.metric,
                                      {}});
-        found = strategies.panels.end() - 1;
       }
+      Panel& panel = strategies.panels[strategy_panel[st.name]];
       const auto colour = colours.find({r, st.behavior});
       Series s = series_of(table, st.behavior + "_step", column, behavior_title(r, st.behavior),
                            colour == colours.end() ? run_colour : colour->second);
-      if (!s.x.empty()) found->series.push_back(std::move(s));
+      if (!s.x.empty()) panel.series.push_back(std::move(s));
     }
   }
   figures.push_back(std::move(lessons));

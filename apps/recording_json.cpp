@@ -25,32 +25,23 @@ void write_value(std::ostream& out, float v) {
   out << s;
 }
 
+// [v0,v1,...] with write_value's precision: sizes, positions, poses, rewards
+void write_numbers(std::ostream& out, const float* values, size_t count) {
+  out << '[';
+  for (size_t k = 0; k < count; ++k) {
+    if (k) out << ',';
+    write_value(out, values[k]);
+  }
+  out << ']';
+}
+
 template <size_t N>
-void write_array(std::ostream& out, const std::array<float, N>& values) {
-  out << '[';
-  for (size_t k = 0; k < N; ++k) {
-    if (k) out << ',';
-    write_value(out, values[k]);
-  }
-  out << ']';
+void write_numbers(std::ostream& out, const std::array<float, N>& values) {
+  write_numbers(out, values.data(), N);
 }
 
-void write_list(std::ostream& out, const std::vector<float>& values) {
-  out << '[';
-  for (size_t k = 0; k < values.size(); ++k) {
-    if (k) out << ',';
-    write_value(out, values[k]);
-  }
-  out << ']';
-}
-
-void write_pose(std::ostream& out, const std::array<float, 7>& pose) {
-  out << '[';
-  for (int k = 0; k < 7; ++k) {
-    if (k) out << ',';
-    write_value(out, pose[k]);
-  }
-  out << ']';
+void write_numbers(std::ostream& out, const std::vector<float>& values) {
+  write_numbers(out, values.data(), values.size());
 }
 
 void write_episode(std::ostream& out, const EpisodeRecording& e) {
@@ -65,7 +56,7 @@ void write_episode(std::ostream& out, const EpisodeRecording& e) {
     if (b.dynamic) dynamic.push_back(i);
     out << (i ? ",\n" : "\n") << "{\"kind\":" << json_string(b.kind)
         << ",\"shape\":" << json_string(b.shape) << ",\"size\":";
-    write_array(out, b.size);
+    write_numbers(out, b.size);
     out << ",\"agent_id\":" << b.agent_id << ",\"dynamic\":" << (b.dynamic ? "true" : "false");
     if (b.vision_range > 0) {
       out << ",\"vision\":{\"cone_degrees\":";
@@ -76,7 +67,7 @@ void write_episode(std::ostream& out, const EpisodeRecording& e) {
     }
     out << ",\"pose\":";
     if (!e.frames.empty() && e.frames[0].present.at(i))
-      write_pose(out, e.frames[0].poses[i]);
+      write_numbers(out, e.frames[0].poses[i]);
     else
       out << "null";
     out << '}';
@@ -85,9 +76,9 @@ void write_episode(std::ostream& out, const EpisodeRecording& e) {
   for (size_t i = 0; i < e.openings.size(); ++i) {
     const RecordedOpening& o = e.openings[i];
     out << (i ? "," : "") << "\n{\"kind\":" << json_string(o.kind) << ",\"centre\":";
-    write_array(out, o.centre);
+    write_numbers(out, o.centre);
     out << ",\"normal\":";
-    write_array(out, o.normal);
+    write_numbers(out, o.normal);
     out << ",\"width\":";
     write_value(out, o.width);
     out << ",\"height\":";
@@ -103,7 +94,7 @@ void write_episode(std::ostream& out, const EpisodeRecording& e) {
     for (size_t j = 0; j < dynamic.size(); ++j) {
       if (j) out << ',';
       if (frame.present.at(dynamic[j]))
-        write_pose(out, frame.poses[dynamic[j]]);
+        write_numbers(out, frame.poses[dynamic[j]]);
       else
         out << "null";
     }
@@ -119,9 +110,9 @@ void write_episode(std::ostream& out, const EpisodeRecording& e) {
     }
     if (!frame.rewards.empty()) {
       out << ",\"rewards\":";
-      write_list(out, frame.rewards);
+      write_numbers(out, frame.rewards);
       out << ",\"group_rewards\":";
-      write_list(out, frame.group_rewards);
+      write_numbers(out, frame.group_rewards);
     }
     out << '}';
   }

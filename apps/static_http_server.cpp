@@ -84,15 +84,16 @@ void send_all(int connection, const char* data, size_t size) {
   }
 }
 
+// `with_body` false answers HEAD: the same head, no body
 void respond(int connection, int status, const std::string& reason, const std::string& type,
-             const std::string& body) {
+             const std::string& body, bool with_body = true) {
   std::ostringstream head;
   head << "HTTP/1.1 " << status << ' ' << reason << "\r\nContent-Type: " << type
        << "\r\nContent-Length: " << body.size()
        << "\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n";
   const std::string text = head.str();
   send_all(connection, text.data(), text.size());
-  send_all(connection, body.data(), body.size());
+  if (with_body) send_all(connection, body.data(), body.size());
 }
 
 }  // namespace
@@ -128,7 +129,7 @@ void StaticHttpServer::answer(int connection) {
   }
   std::ostringstream body;
   body << in.rdbuf();
-  respond(connection, 200, "OK", content_type_of(file), method == "HEAD" ? "" : body.str());
+  respond(connection, 200, "OK", content_type_of(file), body.str(), method != "HEAD");
 }
 
 }  // namespace rlt

@@ -82,31 +82,31 @@ class GlooCommunicator : public Communicator {
 
   // every rank was launched with the same WORLD_SIZE, and no RANK twice
   void check_launch() {
-    const std::string me = std::to_string(settings_.rank);
+    const std::string me = std::to_string(settings_.rank),
+                      mine = std::to_string(settings_.world_size);
+    int64_t claims = 0;
+    std::vector<std::string> sizes;  // [world_size] each rank's WORLD_SIZE
     try {
-      if (store_->add("rlt/rank/" + me, 1) != 1)
-        throw std::runtime_error("two processes were launched with RANK=" + me);
-      store_->set("rlt/world_size/" + me, bytes(std::to_string(settings_.world_size)));
+      claims = store_->add("rlt/rank/" + me, 1);
+      store_->set("rlt/world_size/" + me, bytes(mine));
       std::vector<std::string> keys;
       for (int r = 0; r < settings_.world_size; ++r)
         keys.push_back("rlt/world_size/" + std::to_string(r));
       store_->wait(keys);
-      for (int r = 0; r < settings_.world_size; ++r) {
-        const auto value = store_->get(keys[r]);
-        const std::string theirs(value.begin(), value.end());
-        if (theirs != std::to_string(settings_.world_size))
-          throw std::runtime_error("rank " + std::to_string(r) +
-                                   " was launched with WORLD_SIZE=" + theirs + ", rank " + me +
-                                   " with WORLD_SIZE=" + std::to_string(settings_.world_size));
+      for (const auto& key : keys) {
+        const auto value = store_->get(key);
+        sizes.emplace_back(value.begin(), value.end());
       }
-    } catch (const std::runtime_error& e) {
-      const std::string text = e.what();
-      if (text.find("launched with") != std::string::npos) throw;
-      throw std::runtime_error("rank " + me + ": not every one of the " +
-                               std::to_string(settings_.world_size) + " ranks joined within " +
-                               std::to_string(int(settings_.timeout_seconds)) + " s (" +
-                               first_line(text) + ")");
+    } catch (const std::exception& e) {
+      throw std::runtime_error(
+          "rank " + me + ": not every one of the " + mine + " ranks joined within " +
+          std::to_string(int(settings_.timeout_seconds)) + " s (" + first_line(e.what()) + ")");
     }
+    if (claims != 1) throw std::runtime_error("two processes were launched with RANK=" + me);
+    for (int r = 0; r < settings_.world_size; ++r)
+      if (sizes[r] != mine)
+        throw std::runtime_error("rank " + std::to_string(r) + " was launched with WORLD_SIZE=" +
+                                 sizes[r] + ", rank " + me + " with WORLD_SIZE=" + mine);
   }
 
   static std::vector<uint8_t> bytes(const std::string& s) {

@@ -117,9 +117,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
         make_trainer(bs, bc, env_->buffers(b).rows, rank_seed_ * 1000003 + 17 * b + 1, spec.name));
     trainers_.back()->set_communicator(options_.communicator);
   }
-  std::vector<OnPolicyTrainer*> trainer_ptrs;
-  for (auto& t : trainers_) trainer_ptrs.push_back(t.get());
-  self_play_ = std::make_unique<SelfPlay>(trainer_ptrs, seed_ * 7717 + 3);
+  reset_self_play();
   summary_returns_.resize(trainers_.size());
   summary_group_returns_.resize(trainers_.size());
   summary_metrics_.resize(trainers_.size());
@@ -154,9 +152,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
       if (!st.checkpoints.empty()) load_checkpoint(shared.file(st.checkpoints.back().file), false);
     } else if (!init_checkpoint.empty()) {
       load_checkpoint(init_checkpoint, true);
-      std::vector<OnPolicyTrainer*> ptrs;
-      for (auto& t : trainers_) ptrs.push_back(t.get());
-      self_play_ = std::make_unique<SelfPlay>(ptrs, seed_ * 7717 + 3);
+      reset_self_play();  // the opponent pool starts from the loaded weights
     }
     for (auto& t : trainers_) t->broadcast_parameters(0);
     return;
@@ -179,10 +175,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     status_.run_id = cs.run_id;
     if (!init_checkpoint.empty()) {
       load_checkpoint(init_checkpoint, true);
-      // the opponent pool starts from the loaded weights
-      std::vector<OnPolicyTrainer*> ptrs;
-      for (auto& t : trainers_) ptrs.push_back(t.get());
-      self_play_ = std::make_unique<SelfPlay>(ptrs, seed_ * 7717 + 3);
+      reset_self_play();  // the opponent pool starts from the loaded weights
     }
     for (auto& t : trainers_) write_file_atomically(folder_->metrics_path(t->behavior()), kMetricsHeader);
     status_.strategies = strategies_.emergences();
@@ -375,6 +368,12 @@ void TrainingRun::check_replicas(int b) {
       throw std::runtime_error("behavior " + t.behavior() + ", update " +
                                std::to_string(t.updates()) + ": the parameters of rank " +
                                std::to_string(r) + " differ from rank 0's");
+}
+
+void TrainingRun::reset_self_play() {
+  std::vector<OnPolicyTrainer*> trainers;
+  for (auto& t : trainers_) trainers.push_back(t.get());
+  self_play_ = std::make_unique<SelfPlay>(trainers, seed_ * 7717 + 3);
 }
 
 void TrainingRun::boundary(bool final) {

@@ -86,6 +86,8 @@ class TrainingRun {
 
  private:
   void boundary(bool final);
+  // a fresh self-play controller over the trainers (its pool starts from their current weights)
+  void reset_self_play();
   // draws every instance's parameters for its next reset
   void sample_all_parameters();
   // curriculum: records finished episodes, advances lessons, resets envs when a lesson asks to
