@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -53,9 +54,12 @@ struct HideAndSeek::Settings {
   float hide_reward = 0.001f;
   float close_reward = 0.1f;
   // 0 (the paper): close_reward the first time an opening becomes closed; 1 (held): whenever one
-  // becomes closed, and taken back whenever it opens again; 2 (held and shaped): 1, plus half of
-  // it as a prop comes near an open opening (see opening_potential)
+  // becomes closed, and taken back whenever it opens again; 2 (held and shaped): 1, plus the
+  // shaping terms below (see opening_potential)
   int close_reward_mode = 0;
+  float prop_shaping = 0.5f;   // mode 2: share held for a prop near an open opening
+  float reach_shaping = 0.0f;  // mode 2: share held for a hider near that prop
+  float shaping_range = 5.0f;  // m: nearness is 1 - distance / shaping_range, 0 beyond
   float tagged_reward = -1.0f;
   float seen_reward = 0.001f;
   float unseen_reward = 0.0f;  // per seeker and test-phase frame in which no hider is seen
@@ -118,6 +122,9 @@ HideAndSeek::HideAndSeek()
       {"hide_reward_level4", 0.0005f},
       {"close_reward", 0.1f},
       {"close_reward_mode", 0.f},
+      {"prop_shaping", 0.5f},
+      {"reach_shaping", 0.f},
+      {"shaping_range", 5.f},
       {"tagged_reward", -1.f},
       {"seen_reward", 0.001f},
       {"unseen_reward", 0.f},
@@ -221,6 +228,14 @@ void HideAndSeek::build_episode() {
   s.hide_reward = level_ == 4 ? parameter("hide_reward_level4") : parameter("hide_reward");
   s.close_reward = parameter("close_reward");
   s.close_reward_mode = drone::int_parameter(*this, "close_reward_mode", 0, 2);
+  s.prop_shaping = drone::float_parameter(*this, "prop_shaping", 0.0f, 1.0f);
+  s.reach_shaping = drone::float_parameter(*this, "reach_shaping", 0.0f, 1.0f);
+  if (s.prop_shaping + s.reach_shaping > 1.0f)
+    throw std::invalid_argument(
+        "HideAndSeek: parameters prop_shaping + reach_shaping must be at most 1 (a closed "
+        "opening holds 1), got " +
+        std::to_string(s.prop_shaping + s.reach_shaping));
+  s.shaping_range = drone::float_parameter(*this, "shaping_range", 0.1f, 50.0f);
   s.tagged_reward = parameter("tagged_reward");
   s.seen_reward = parameter("seen_reward");
   s.unseen_reward = parameter("unseen_reward");
@@ -585,20 +600,38 @@ void HideAndSeek::run_frame(StepView& io) {
 }
 
 float HideAndSeek::opening_potential(const std::array<bool, kNumOpenings>& closed) const {
-  // modes 1 and 2: one per closed opening; mode 2 adds, for an open opening, half of how near
-  // the nearest prop is (1 at its centre, 0 from kShapingRange on)
+  // one per closed opening; with mode 2, for an open opening, prop_shaping times how near the
+  // nearest prop is and reach_shaping times how near the nearest hider is to that prop
+  const Settings& s = *settings_;
+  const auto nearness = [&](float d) { return std::max(0.0f, 1.0f - d / s.shaping_range); };
   float potential = 0.0f;
   for (int o = 0; o < kNumOpenings; ++o) {
     const drone::Opening& opening = arena_->openings()[o];
     if (!opening.open) continue;
     if (closed[o]) {
       potential += 1.0f;
-    } else if (settings_->close_reward_mode == 2) {
-      float nearest = kShapingRange;
-      for (int i = 0; i < props_->size(); ++i)
-        nearest = std::min(nearest, ((*props_)[i].position() - opening.centre).length());
-      potential += 0.5f * (1.0f - nearest / kShapingRange);
+      continue;
     }
+    if (s.close_reward_mode != 2) continue;
+    // only unlocked props count: one locked short of closing must be unlocked before it helps,
+    // so locking it there takes its share back
+    int nearest_prop = -1;
+    float nearest = std::numeric_limits<float>::infinity();
+    for (int i = 0; i < props_->size(); ++i) {
+      if ((*props_)[i].locked()) continue;
+      const float d = ((*props_)[i].position() - opening.centre).length();
+      if (d < nearest) nearest = d, nearest_prop = i;
+    }
+    if (nearest_prop < 0) continue;
+    potential += s.prop_shaping * nearness(nearest);
+    if (s.reach_shaping == 0.0f) continue;
+    const btVector3 prop = (*props_)[nearest_prop].position();
+    float hider = std::numeric_limits<float>::infinity();
+    for (int h = 0; h < kMaxHiders; ++h) {
+      const Agent& a = agent(kHider, h);
+      if (a.present) hider = std::min(hider, (a.drone->position() - prop).length());
+    }
+    potential += s.reach_shaping * nearness(hider);
   }
   return potential;
 }
@@ -697,12 +730,15 @@ void HideAndSeek::end_episode(StepView& io, bool terminated) {
 
 void HideAndSeek::write_mask(BehaviorView& view, const Agent& a) const {
   uint8_t* m = view.action_mask(a.slot);  // [2 + 3]
+  // only what would act on a prop now: hold keeps a held prop or grabs one in reach and in front,
+  // lock needs an unlocked prop there, unlock one the hiders locked; seekers may do none of it
   const bool hider = a.team == kHider;
+  const drone::DroneBody& d = *a.drone;
   m[0] = 1;
-  m[1] = hider;
+  m[1] = hider && (props_->held_by(d) >= 0 || props_->grabbable(d) >= 0);
   m[2] = 1;
-  m[3] = hider;
-  m[4] = hider;
+  m[3] = hider && props_->lockable(d) >= 0;
+  m[4] = hider && props_->unlockable(d, kHider) >= 0;
 }
 
 void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
@@ -747,6 +783,9 @@ void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
   v[15] = seen ? clip1(rel.y() / s.vision_range) : 0.0f;
   v[16] = seen ? clip1(rel.dot(fwd) / s.vision_range) : 0.0f;
   v[17] = seen ? 1.0f : 0.0f;
+  // what the lock branch could do now (the vision of the props cannot tell locked from unlocked)
+  v[18] = props_->lockable(d) >= 0 ? 1.0f : 0.0f;
+  v[19] = props_->unlockable(d, kHider) >= 0 ? 1.0f : 0.0f;
   rays_.observe(shapes_, d.body(), view.observation(a.slot, 1));
   const drone::GridSensor* grids[2] = {&spatial_grid_, &frontal_grid_};
   float* outs[2] = {view.observation(a.slot, 2), view.observation(a.slot, 3)};

@@ -7,10 +7,12 @@
 // stay kAbsent. Both have the same action spec:
 //   continuous 4 in [-1, 1]: forward thrust, strafe (to the right), vertical thrust, yaw rate;
 //   discrete branch "grab" {0 release, 1 hold}, branch "lock" {0 none, 1 lock, 2 unlock}.
-// Seekers cannot grab or lock: their masks allow only option 0 of both branches (1 = allowed), and
-// the env ignores a forbidden option. Grab and lock act once, at the start of a decision (PropSet
-// rules: reach 1.5 m, a 60-degree front cone; hold keeps a held prop; a hider that locks the prop
-// it holds lets go of it; only the locking team may unlock).
+// Masks (1 = allowed) allow only what would act on a prop now: hold when the drone holds a prop or
+// one it could grab is in reach and in front, lock when an unlocked prop is, unlock when a prop the
+// hiders locked is; seekers cannot grab or lock (only option 0 of both branches). The env ignores a
+// forbidden option (for hiders it would fail anyway). Grab and lock act once, at the start of a
+// decision (PropSet rules: reach 1.5 m, a 60-degree front cone; hold keeps a held prop; a hider
+// that locks the prop it holds lets go of it; only the locking team may unlock).
 //
 // Time: physics at 50 Hz; an agent decides every `decision_period` (3) frames and its thrust is
 // repeated for those frames. An episode lasts at most `episode_frames` (3072) frames; the first
@@ -47,10 +49,12 @@
 //     when tagged. With `close_reward_mode` 1 (held) the close reward is paid whenever an opening
 //     becomes closed and taken back whenever it opens again (a potential: the hiders hold
 //     close_reward per closed opening, so a fort kept to the end pays and locking, unlocking and
-//     locking again pays nothing more). With 2 (held and shaped) the hiders also hold half the
-//     close reward times how near (1 at its centre, 0 from 5 m on) the nearest prop is to each
-//     open opening that is not closed: potential-based shaping (Ng, Harada and Russell 1999)
-//     that pays for dragging a prop towards an opening and takes it back when it moves away.
+//     locking again pays nothing more). With 2 (held and shaped) they also hold, for each open
+//     opening that is not closed, the close reward times prop_shaping (0.5) times how near the
+//     nearest prop is to its centre, plus reach_shaping (0) times how near the nearest hider is to
+//     that prop; nearness is 1 - distance / shaping_range (5 m), 0 beyond. Potential-based shaping
+//     (Ng, Harada and Russell 1999): it pays for each link of the chain reach, drag, lock and takes
+//     it back when undone; prop_shaping + reach_shaping is at most 1, what a closed opening holds.
 //   seeker: reward + seen_reward (0.001) per test-phase frame per hider it sees, times the
 //     assault-horizon signal clipped to [0, 1] when `assault_weighting` = 1; + unseen_reward (0;
 //     negative for the constant penalty of RQ3) per test-phase frame in which no seeker sees any
@@ -62,12 +66,16 @@
 // seekers cannot act.
 //
 // Observations, the same four for both behaviors, every value in [-1, 1] (vector) or [0, 1]:
-//  "vector" [18]: [0, 3) position: x / half_size, 2 y / height - 1, z / half_size;
+//  "vector" [20]: [0, 3) position: x / half_size, 2 y / height - 1, z / half_size;
 //    [3, 6) velocity / max_speed; [6, 9) forward vector (unit, horizontal); [9, 11) sin and cos of
 //    yaw; [11] dragging flag (holds a prop); [12] frame / episode_frames; [13] prep-phase flag;
 //    [14, 17) the nearest opponent this agent sees (hider: seekers in its own cone, seeker: hiders)
 //    relative to it in its own frame (right, up, forward) / vision_range; [17] 1 when one is seen
-//    (else the three values before are 0). Values are clipped to [-1, 1].
+//    (else the three values before are 0); [18] 1 when an unlocked prop is in reach and in front
+//    (lock would lock it), [19] 1 when a prop the hiders locked is (a hider's unlock would unlock
+//    it): neither the rays nor the grids tell a locked prop from a free one, and without these a
+//    hider in front of a prop cannot know whether to lock or leave it. Values are clipped to
+//    [-1, 1].
 //  "rays" [119]: RaySensor with its defaults (17 rays over 360 degrees, 20 m, sphere radius 0.3).
 //  "spatial_grid" [6, 12, 5] and "frontal_grid" [9, 8, 5]: GridSensor's spatial() and frontal()
 //    presets (grid_sensor.h) over the surface points of every body (walls at 1 m, bodies at 0.3 m;
@@ -108,7 +116,7 @@ class HideAndSeek : public Env {
   enum Team { kHider = 0, kSeeker = 1 };
   static constexpr int kMaxHiders = 2;
   static constexpr int kMaxSeekers = 4;
-  static constexpr int kVectorSize = 18;
+  static constexpr int kVectorSize = 20;
   static constexpr int kMaxEpisodeFrames = 6144;  // largest `episode_frames`
   static constexpr int kGrabBranch = 0;           // options: 0 release, 1 hold
   static constexpr int kLockBranch = 1;           // options: 0 none, 1 lock, 2 unlock
@@ -163,10 +171,10 @@ class HideAndSeek : public Env {
   void tag(Agent& hider, StepView& io);
   void check_openings(StepView& io);
   // close_reward_mode 1: the number of closed openings; 2: plus, per open opening not closed,
-  // 0.5 (1 - d / kShapingRange) with d the distance from its centre to the nearest prop's
+  // prop_shaping n(d) + reach_shaping n(e), with d the distance from its centre to the nearest
+  // prop's, e from that prop's to the nearest hider's and n(x) = max(0, 1 - x / shaping_range)
   // (`closed`: opening_closed of each opening, computed once by the caller)
   float opening_potential(const std::array<bool, drone::kNumOpenings>& closed) const;
-  static constexpr float kShapingRange = 5.0f;  // m
   void pay_baker_rewards(StepView& io);
   void write_observation(BehaviorView& view, const Agent& agent);
   void write_mask(BehaviorView& view, const Agent& agent) const;

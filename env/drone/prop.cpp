@@ -108,7 +108,7 @@ int PropSet::held_by(const DroneBody& drone) const {
 int PropSet::grab(const DroneBody& drone) {
   const int held = held_by(drone);
   if (held >= 0) return held;
-  const int i = nearest(drone, [](const Prop& p) { return !p.locked() && p.held_by == nullptr; });
+  const int i = grabbable(drone);
   if (i < 0) return -1;
   Prop& prop = props_[i];
   // the drone's body is owned by the world; the constraint needs it non-const
@@ -130,8 +130,21 @@ int PropSet::release(const DroneBody& drone) {
   return i;
 }
 
+int PropSet::grabbable(const DroneBody& drone) const {
+  return nearest(drone, [](const Prop& p) { return !p.locked() && p.held_by == nullptr; });
+}
+
+int PropSet::lockable(const DroneBody& drone) const {
+  return nearest(drone, [](const Prop& p) { return !p.locked(); });
+}
+
+int PropSet::unlockable(const DroneBody& drone, int team) const {
+  const int i = nearest(drone, [](const Prop& p) { return p.locked(); });
+  return i >= 0 && props_[i].locked_by == team ? i : -1;
+}
+
 int PropSet::lock(const DroneBody& drone, int team) {
-  const int i = nearest(drone, [](const Prop& p) { return !p.locked(); });
+  const int i = lockable(drone);
   if (i < 0 || team == kNoTeam) return -1;
   Prop& prop = props_[i];
   drop(prop);
@@ -148,8 +161,8 @@ int PropSet::lock(const DroneBody& drone, int team) {
 }
 
 int PropSet::unlock(const DroneBody& drone, int team) {
-  const int i = nearest(drone, [](const Prop& p) { return p.locked(); });
-  if (i < 0 || props_[i].locked_by != team) return -1;
+  const int i = unlockable(drone, team);
+  if (i < 0) return -1;
   Prop& prop = props_[i];
   btRigidBody* body = prop.body;
   btVector3 inertia(0, 0, 0);

@@ -92,6 +92,10 @@ class PropSet {
   int unlock(const DroneBody& drone, int team);
 
   int held_by(const DroneBody& drone) const;  // index of the prop the drone holds or -1
+  // what grab, lock and unlock would act on now, without acting: the prop's index or -1
+  int grabbable(const DroneBody& drone) const;
+  int lockable(const DroneBody& drone) const;
+  int unlockable(const DroneBody& drone, int team) const;
   // surface gap between the drone and prop i, and whether prop i is in the drone's front cone
   float gap(const DroneBody& drone, int i) const;
   bool in_front(const DroneBody& drone, int i) const;

@@ -81,7 +81,11 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"hider_outside_chance", 1.5f},
                                                   {"hider_outside_chance", -0.5f},
                                                   {"prop_start_offset", 1.1f},
-                                                  {"close_reward_mode", 3.f}}) {
+                                                  {"close_reward_mode", 3.f},
+                                                  {"prop_shaping", 1.5f},
+                                                  {"reach_shaping", -0.1f},
+                                                  {"reach_shaping", 0.6f},  // + 0.5 > 1
+                                                  {"shaping_range", 0.f}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
     SingleEnvHarness harness(env);
@@ -202,9 +206,7 @@ TEST(HideAndSeekTest, SeekersDoNotMoveInThePrepPhase) {
 
 TEST(HideAndSeekTest, SeekersCannotGrabOrLock) {
   Game g({{"level", 1.f}});
-  const uint8_t* hider_mask = g.hiders().action_mask.data();
   const uint8_t* seeker_mask = g.seekers().action_mask.data();
-  EXPECT_EQ(std::vector<int>(hider_mask, hider_mask + 5), std::vector<int>({1, 1, 1, 1, 1}));
   EXPECT_EQ(std::vector<int>(seeker_mask, seeker_mask + 5), std::vector<int>({1, 0, 1, 0, 0}));
   // a seeker put next to the prop that asks to grab and lock anyway changes nothing
   auto& seeker = *g.env.agent(HideAndSeek::kSeeker, 0).drone;
@@ -325,6 +327,51 @@ TEST(HideAndSeekTest, LockedPropClosesTheDoorwayOnce) {
   EXPECT_EQ(m.at("openings_closed"), 1.0f);
 }
 
+// the hiders' masks and vector [18, 20) say what grab, lock and unlock would act on
+TEST(HideAndSeekTest, MasksAndObservationSayWhatAPropActionWouldDo) {
+  Game g({{"level", 1.f}, {"num_hiders", 1.f}, {"num_seekers", 1.f}});
+  const auto mask = [&] {
+    const uint8_t* m = g.hiders().action_mask.data();
+    return std::vector<int>(m, m + 5);
+  };
+  const auto flags = [&] {
+    const float* v = g.hiders().observations[0].data();
+    return std::vector<float>{v[18], v[19]};
+  };
+  auto& hider = *g.env.agent(HideAndSeek::kHider, 0).drone;
+  // far from the prop: only release and none
+  btTransform pose = hider.body().getWorldTransform();
+  const drone::Opening& door = g.env.arena().openings()[0];
+  pose.setOrigin(door.centre - door.normal * 6.0f);
+  hider.body().setWorldTransform(pose);
+  g.set_all(0.0f);
+  g.harness.step();
+  EXPECT_EQ(mask(), std::vector<int>({1, 0, 1, 0, 0}));
+  EXPECT_EQ(flags(), std::vector<float>({0.0f, 0.0f}));
+  // before the free prop: hold and lock, not unlock
+  place_prop_in_doorway_and_hider_before_it(g);
+  g.set_all(0.0f);
+  g.harness.step();
+  EXPECT_EQ(mask(), std::vector<int>({1, 1, 1, 1, 0}));
+  EXPECT_EQ(flags(), std::vector<float>({1.0f, 0.0f}));
+  // locked: unlock only
+  g.set_all(0.0f, 0, 1);
+  g.harness.step();
+  ASSERT_TRUE(g.env.props()[0].locked());
+  EXPECT_EQ(mask(), std::vector<int>({1, 0, 1, 0, 1}));
+  EXPECT_EQ(flags(), std::vector<float>({0.0f, 1.0f}));
+  // holding it: hold stays allowed
+  g.set_all(0.0f, 0, 2);
+  g.harness.step();
+  g.set_all(0.0f, 1, 0);
+  g.harness.step();
+  ASSERT_GE(g.env.props().held_by(hider), 0);
+  EXPECT_EQ(mask(), std::vector<int>({1, 1, 1, 1, 0}));
+  // the seeker's masks never allow a prop action
+  const uint8_t* m = g.seekers().action_mask.data();
+  EXPECT_EQ(std::vector<int>(m, m + 5), std::vector<int>({1, 0, 1, 0, 0}));
+}
+
 TEST(HideAndSeekTest, HeldCloseRewardIsTakenBackWhenTheDoorwayOpens) {
   Game g({{"level", 1.f},
           {"num_hiders", 1.f},
@@ -387,6 +434,46 @@ TEST(HideAndSeekTest, ShapedCloseRewardPaysForBringingAPropNear) {
   step();
   move_prop(6.0f);
   EXPECT_EQ(step(), 0.0f);  // beyond 5 m nearness is 0
+}
+
+TEST(HideAndSeekTest, ReachShapingPaysForAHiderComingNearTheProp) {
+  Game g({{"level", 1.f},
+          {"num_hiders", 1.f},
+          {"num_seekers", 1.f},
+          {"close_reward", 0.5f},
+          {"close_reward_mode", 2.f},
+          {"reach_shaping", 0.25f},
+          {"shaping_range", 4.f}});
+  const drone::Opening& door = g.env.arena().openings()[0];
+  const btVector3 prop = g.env.props()[0].position();
+  auto& hider = *g.env.agent(HideAndSeek::kHider, 0).drone;
+  // puts the hider `d` metres from the prop, towards the room's centre, at the prop's height
+  auto move_hider = [&](float d) {
+    btTransform pose = hider.body().getWorldTransform();
+    pose.setOrigin(prop - door.normal * d);
+    hider.body().setWorldTransform(pose);
+    hider.body().setLinearVelocity(btVector3(0, 0, 0));
+  };
+  auto step = [&]() {
+    g.set_all(0.0f);
+    g.harness.step();
+    return g.hiders().reward[0];
+  };
+  move_hider(3.0f);
+  step();  // the teleport is paid for on this step: start from here
+  const float at3 = (hider.position() - g.env.props()[0].position()).length();
+  move_hider(1.5f);
+  const float paid = step();
+  const float at15 = (hider.position() - g.env.props()[0].position()).length();
+  // 0.5 (close reward) x 0.25 (reach share) x (distance gained / 4 m); the prop did not move
+  EXPECT_NEAR(paid, 0.5f * 0.25f * (at3 - at15) / 4.0f, 1e-4f);
+  EXPECT_GT(paid, 0.0f);
+  move_hider(3.0f);
+  EXPECT_NEAR(step(), -paid, 1e-4f);  // taken back as it leaves
+  move_hider(5.0f);
+  step();
+  move_hider(4.5f);
+  EXPECT_NEAR(step(), 0.0f, 1e-6f);  // beyond the range nearness is 0
 }
 
 TEST(HideAndSeekTest, BakerPresetIsZeroSumPerDecision) {
