@@ -71,6 +71,7 @@ struct HideAndSeek::Settings {
   float vision_cone = drone::kDefaultConeDegrees;
   float hider_outside_chance = 0.0f;  // chance that a hider starts just outside the room
   float prop_start_offset = 1.0f;     // levels 1-2: 0 = props start in the doorways, 1 = own place
+  bool prop_cues = true;  // vector [18, 20) and the hiders' masks say what prop actions would do
 };
 
 namespace {
@@ -136,6 +137,7 @@ HideAndSeek::HideAndSeek()
       {"vision_cone", drone::kDefaultConeDegrees},
       {"hider_outside_chance", -1.f},
       {"prop_start_offset", 1.f},
+      {"prop_cues", 1.f},
   };
   // SPEC section 8: chasing is dated in seeker steps, shelter in hider steps and only counts at
   // level 2 and above (level 1's single doorway is the curriculum's first lesson) with the props
@@ -246,6 +248,7 @@ void HideAndSeek::build_episode() {
   s.vision_range = drone::float_parameter(*this, "vision_range", 0.1f, 100.0f);
   s.vision_cone = drone::float_parameter(*this, "vision_cone", 1.0f, 360.0f);
   s.prop_start_offset = drone::float_parameter(*this, "prop_start_offset", 0.0f, 1.0f);
+  s.prop_cues = drone::int_parameter(*this, "prop_cues", 0, 1) == 1;
   // -1: the level's own (0 at levels 1 and 2, 0.5 at 3 and 4)
   const float outside = parameter("hider_outside_chance");
   if (outside != -1.0f && !(outside >= 0.0f && outside <= 1.0f))
@@ -732,13 +735,15 @@ void HideAndSeek::write_mask(BehaviorView& view, const Agent& a) const {
   uint8_t* m = view.action_mask(a.slot);  // [2 + 3]
   // only what would act on a prop now: hold keeps a held prop or grabs one in reach and in front,
   // lock needs an unlocked prop there, unlock one the hiders locked; seekers may do none of it
+  // (prop_cues 0: hiders may choose every option, as the paper's agents)
   const bool hider = a.team == kHider;
+  const bool cues = settings_->prop_cues;
   const drone::DroneBody& d = *a.drone;
   m[0] = 1;
-  m[1] = hider && (props_->held_by(d) >= 0 || props_->grabbable(d) >= 0);
+  m[1] = hider && (!cues || props_->held_by(d) >= 0 || props_->grabbable(d) >= 0);
   m[2] = 1;
-  m[3] = hider && props_->lockable(d) >= 0;
-  m[4] = hider && props_->unlockable(d, kHider) >= 0;
+  m[3] = hider && (!cues || props_->lockable(d) >= 0);
+  m[4] = hider && (!cues || props_->unlockable(d, kHider) >= 0);
 }
 
 void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
@@ -784,8 +789,8 @@ void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
   v[16] = seen ? clip1(rel.dot(fwd) / s.vision_range) : 0.0f;
   v[17] = seen ? 1.0f : 0.0f;
   // what the lock branch could do now (the vision of the props cannot tell locked from unlocked)
-  v[18] = props_->lockable(d) >= 0 ? 1.0f : 0.0f;
-  v[19] = props_->unlockable(d, kHider) >= 0 ? 1.0f : 0.0f;
+  v[18] = s.prop_cues && props_->lockable(d) >= 0 ? 1.0f : 0.0f;
+  v[19] = s.prop_cues && props_->unlockable(d, kHider) >= 0 ? 1.0f : 0.0f;
   rays_.observe(shapes_, d.body(), view.observation(a.slot, 1));
   const drone::GridSensor* grids[2] = {&spatial_grid_, &frontal_grid_};
   float* outs[2] = {view.observation(a.slot, 2), view.observation(a.slot, 3)};

@@ -74,7 +74,8 @@
 //    (else the three values before are 0); [18] 1 when an unlocked prop is in reach and in front
 //    (lock would lock it), [19] 1 when a prop the hiders locked is (a hider's unlock would unlock
 //    it): neither the rays nor the grids tell a locked prop from a free one, and without these a
-//    hider in front of a prop cannot know whether to lock or leave it. Values are clipped to
+//    hider in front of a prop cannot know whether to lock or leave it (`prop_cues` 0: both 0, and
+//    the hiders' masks allow every option, as for the paper's agents). Values are clipped to
 //    [-1, 1].
 //  "rays" [119]: RaySensor with its defaults (17 rays over 360 degrees, 20 m, sphere radius 0.3).
 //  "spatial_grid" [6, 12, 5] and "frontal_grid" [9, 8, 5]: GridSensor's spatial() and frontal()

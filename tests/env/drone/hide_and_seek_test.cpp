@@ -85,7 +85,8 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"prop_shaping", 1.5f},
                                                   {"reach_shaping", -0.1f},
                                                   {"reach_shaping", 0.6f},  // + 0.5 > 1
-                                                  {"shaping_range", 0.f}}) {
+                                                  {"shaping_range", 0.f},
+                                                  {"prop_cues", 2.f}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
     SingleEnvHarness harness(env);
@@ -370,6 +371,18 @@ TEST(HideAndSeekTest, MasksAndObservationSayWhatAPropActionWouldDo) {
   // the seeker's masks never allow a prop action
   const uint8_t* m = g.seekers().action_mask.data();
   EXPECT_EQ(std::vector<int>(m, m + 5), std::vector<int>({1, 0, 1, 0, 0}));
+}
+
+TEST(HideAndSeekTest, WithoutPropCuesHidersMayChooseAnyPropAction) {
+  Game g({{"level", 1.f}, {"num_hiders", 1.f}, {"num_seekers", 1.f}, {"prop_cues", 0.f}});
+  place_prop_in_doorway_and_hider_before_it(g);
+  g.set_all(0.0f, 0, 1);
+  g.harness.step();
+  ASSERT_TRUE(g.env.props()[0].locked());  // the prop actions themselves are unchanged
+  const uint8_t* m = g.hiders().action_mask.data();
+  EXPECT_EQ(std::vector<int>(m, m + 5), std::vector<int>({1, 1, 1, 1, 1}));
+  EXPECT_EQ(g.hiders().observations[0][18], 0.0f);
+  EXPECT_EQ(g.hiders().observations[0][19], 0.0f);
 }
 
 TEST(HideAndSeekTest, HeldCloseRewardIsTakenBackWhenTheDoorwayOpens) {
