@@ -60,6 +60,7 @@ struct HideAndSeek::Settings {
   float prop_shaping = 0.5f;   // mode 2: share held for a prop near an open opening
   float reach_shaping = 0.0f;  // mode 2: share held for a hider near that prop
   float shaping_range = 5.0f;  // m: nearness is 1 - distance / shaping_range, 0 beyond
+  float fort_reward = 0.0f;    // per opening closed when the prep phase ends, to every hider
   float tagged_reward = -1.0f;
   float seen_reward = 0.001f;
   float unseen_reward = 0.0f;  // per seeker and test-phase frame in which no hider is seen
@@ -126,6 +127,7 @@ HideAndSeek::HideAndSeek()
       {"prop_shaping", 0.5f},
       {"reach_shaping", 0.f},
       {"shaping_range", 5.f},
+      {"fort_reward", 0.f},
       {"tagged_reward", -1.f},
       {"seen_reward", 0.001f},
       {"unseen_reward", 0.f},
@@ -257,8 +259,9 @@ void HideAndSeek::build_episode() {
         "level's own) or in [0, 1], got " +
         std::to_string(outside));
   s.hider_outside_chance = outside == -1.0f ? (level_ >= 3 ? 0.5f : 0.0f) : outside;
-  for (const char* name : {"hide_reward", "hide_reward_level4", "close_reward", "tagged_reward",
-                           "seen_reward", "unseen_reward", "tag_reward"}) {
+  s.fort_reward = parameter("fort_reward");
+  for (const char* name : {"hide_reward", "hide_reward_level4", "close_reward", "fort_reward",
+                           "tagged_reward", "seen_reward", "unseen_reward", "tag_reward"}) {
     if (!std::isfinite(parameter(name)))
       throw std::invalid_argument("HideAndSeek: parameter " + std::string(name) +
                                   " must be finite");
@@ -544,6 +547,12 @@ void HideAndSeek::run_frame(StepView& io) {
     // the prep phase ends: measure the fort, free the seekers
     closed_at_prep_end_ = count_closed();
     fort_ = closed_at_prep_end_ == arena_->num_open();
+    // the fort the seekers will meet: what keeping the openings closed through the prep is for
+    if (s.reward_preset == 0 && s.fort_reward != 0.0f && closed_at_prep_end_ > 0) {
+      for (int h = 0; h < kMaxHiders; ++h)
+        if (agent(kHider, h).present)
+          io[kHider].reward(h) += s.fort_reward * static_cast<float>(closed_at_prep_end_);
+    }
     for (int slot = 0; slot < num_agents_[kSeeker]; ++slot) {
       btRigidBody& body = agent(kSeeker, slot).drone->body();
       body.setLinearFactor(btVector3(1, 1, 1));

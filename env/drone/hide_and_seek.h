@@ -55,6 +55,8 @@
 //     that prop; nearness is 1 - distance / shaping_range (5 m), 0 beyond. Potential-based shaping
 //     (Ng, Harada and Russell 1999): it pays for each link of the chain reach, drag, lock and takes
 //     it back when undone; prop_shaping + reach_shaping is at most 1, what a closed opening holds.
+//     + fort_reward (0) per opening closed when the prep phase ends (the fort the seekers meet:
+//     the close reward pays the closing, this the keeping; a quick unlock and relock pays again).
 //   seeker: reward + seen_reward (0.001) per test-phase frame per hider it sees, times the
 //     assault-horizon signal clipped to [0, 1] when `assault_weighting` = 1; + unseen_reward (0;
 //     negative for the constant penalty of RQ3) per test-phase frame in which no seeker sees any

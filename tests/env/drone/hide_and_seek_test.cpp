@@ -86,7 +86,8 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"reach_shaping", -0.1f},
                                                   {"reach_shaping", 0.6f},  // + 0.5 > 1
                                                   {"shaping_range", 0.f},
-                                                  {"prop_cues", 2.f}}) {
+                                                  {"prop_cues", 2.f},
+                                                  {"fort_reward", NAN}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
     SingleEnvHarness harness(env);
@@ -383,6 +384,33 @@ TEST(HideAndSeekTest, WithoutPropCuesHidersMayChooseAnyPropAction) {
   EXPECT_EQ(std::vector<int>(m, m + 5), std::vector<int>({1, 1, 1, 1, 1}));
   EXPECT_EQ(g.hiders().observations[0][18], 0.0f);
   EXPECT_EQ(g.hiders().observations[0][19], 0.0f);
+}
+
+TEST(HideAndSeekTest, FortRewardPaysEveryOpeningClosedWhenThePrepPhaseEnds) {
+  for (const bool lock : {true, false}) {
+    Game g({{"level", 1.f},
+            {"num_hiders", 2.f},
+            {"num_seekers", 1.f},
+            {"close_reward", 0.f},
+            {"hide_reward", 0.f},
+            {"fort_reward", 0.7f},
+            {"prep_fraction", 0.1f},
+            {"episode_frames", 300.f}});
+    place_prop_in_doorway_and_hider_before_it(g);
+    g.set_all(0.0f, 0, lock ? 1 : 0);
+    g.harness.step();
+    float paid[2] = {0, 0};
+    int paid_steps = 0;
+    while (g.env.in_prep()) {
+      g.set_all(0.0f);
+      g.harness.step();
+      paid_steps += g.hiders().reward[0] != 0.0f;
+      for (int h = 0; h < 2; ++h) paid[h] += g.hiders().reward[h];
+    }
+    EXPECT_EQ(g.env.episode_metrics().at("fort_rate"), lock ? 1.0f : 0.0f);
+    for (int h = 0; h < 2; ++h) EXPECT_NEAR(paid[h], lock ? 0.7f : 0.0f, 1e-6f) << "hider " << h;
+    EXPECT_EQ(paid_steps, lock ? 1 : 0);  // once, at the decision the prep phase ends in
+  }
 }
 
 TEST(HideAndSeekTest, HeldCloseRewardIsTakenBackWhenTheDoorwayOpens) {
