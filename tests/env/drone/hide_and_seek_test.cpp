@@ -36,6 +36,12 @@ struct Game {
       }
     }
   }
+  // one decision with every action 0; returns the first hider's reward
+  float idle_step() {
+    set_all(0.0f);
+    harness.step();
+    return hiders().reward[0];
+  }
   // scripted actions for one team
   void script(Team team) {
     StepView views;
@@ -455,11 +461,7 @@ TEST(HideAndSeekTest, ShapedCloseRewardPaysForBringingAPropNear) {
     pose.setOrigin(p);
     prop.body->setWorldTransform(pose);
   };
-  auto step = [&]() {
-    g.set_all(0.0f);
-    g.harness.step();
-    return g.hiders().reward[0];
-  };
+  auto step = [&] { return g.idle_step(); };
   move_prop(4.0f);
   step();  // the teleport is paid for on this step: start from here
   const float at4 = (prop.position() - door.centre).length();
@@ -495,11 +497,7 @@ TEST(HideAndSeekTest, ReachShapingPaysForAHiderComingNearTheProp) {
     hider.body().setWorldTransform(pose);
     hider.body().setLinearVelocity(btVector3(0, 0, 0));
   };
-  auto step = [&]() {
-    g.set_all(0.0f);
-    g.harness.step();
-    return g.hiders().reward[0];
-  };
+  auto step = [&] { return g.idle_step(); };
   move_hider(3.0f);
   step();  // the teleport is paid for on this step: start from here
   const float at3 = (hider.position() - g.env.props()[0].position()).length();
