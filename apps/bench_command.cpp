@@ -9,6 +9,7 @@
 #include "apps/commands.h"
 #include "apps/local_launcher.h"
 #include "rl/config/config_parser.h"
+#include "rl/core/blas_kernels.h"
 #include "rl/core/compute_threads.h"
 #include "rl/core/json.h"
 #include "rl/distributed/gloo_communicator.h"
@@ -33,7 +34,8 @@ const char* const kBenchHelp = R"(Usage:
   rlt bench gemm [--size N] [--threads T] [--json]
       the machine's matrix-product peak: N x N times N x N single-precision products (default
       2048) through LibTorch's BLAS, and the learner's first-layer shape (3072 x 859 times
-      859 x 256), with T threads (default: all cores); reports gflops of each.
+      859 x 256), with T threads (default: all cores); reports gflops of each and the kernel
+      family OpenBLAS runs (blas_core; see 'rlt --help' on OPENBLAS_CORETYPE).
 )";
 
 namespace {
@@ -157,12 +159,15 @@ int bench_gemm(const CommandLine& cl) {
   set_compute_threads(threads);
   const double square = gemm_gflops(size, size, size, 3.0);
   const double learner = gemm_gflops(3072, 859, 256, 3.0);
+  const std::string core = openblas_core();
   if (cl.has("--json"))
     std::cout << "{\"threads\":" << threads << ",\"size\":" << size << ",\"square_gflops\":"
-              << json_number(square) << ",\"learner_shape_gflops\":" << json_number(learner) << "}\n";
+              << json_number(square) << ",\"learner_shape_gflops\":" << json_number(learner)
+              << ",\"blas_core\":\"" << core << "\"}\n";
   else
     std::cout << threads << " thread(s): " << size << "^3 products " << square
-              << " GFLOP/s; 3072 x 859 x 256 products " << learner << " GFLOP/s\n";
+              << " GFLOP/s; 3072 x 859 x 256 products " << learner << " GFLOP/s"
+              << (core.empty() ? "" : "; OpenBLAS kernels " + core) << "\n";
   return 0;
 }
 

@@ -6,6 +6,7 @@
 #include "apps/command_line.h"
 #include "apps/commands.h"
 #include "env/register_builtin_envs.h"
+#include "rl/core/blas_kernels.h"
 
 namespace {
 
@@ -27,6 +28,10 @@ Commands:
 
 Run 'rlt COMMAND --help' for the options of a command.
 
+Environment: OPENBLAS_CORETYPE is kept when set. When it is not and Debian's OpenBLAS does not know
+the CPU (it then runs its oldest kernels, Prescott), rlt starts itself again with SkylakeX on a CPU
+with AVX-512 or Haswell with AVX2: 2-5x faster matrix products ('rlt bench gemm' names the kernels).
+
 Quick start:
   rlt train configs/cartpole_ppo.yaml --run-id cartpole
   rlt eval results/cartpole --episodes 20 --json
@@ -36,6 +41,8 @@ Quick start:
 }  // namespace
 
 int main(int argc, char** argv) {
+  // OpenBLAS's newest kernels for this CPU when it fell back to its oldest (blas_kernels.h)
+  rlt::use_best_openblas_kernels(argv);
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     std::cout << kHelp;
