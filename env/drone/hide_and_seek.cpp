@@ -61,6 +61,7 @@ struct HideAndSeek::Settings {
   float reach_shaping = 0.0f;  // mode 2: share held for a hider near that prop
   float shaping_range = 5.0f;  // m: nearness is 1 - distance / shaping_range, 0 beyond
   float fort_reward = 0.0f;    // per opening closed when the prep phase ends, to every hider
+  float unlock_cost = 0.0f;    // taken from a hider per prop it unlocks
   float tagged_reward = -1.0f;
   float seen_reward = 0.001f;
   float unseen_reward = 0.0f;  // per seeker and test-phase frame in which no hider is seen
@@ -72,7 +73,9 @@ struct HideAndSeek::Settings {
   float vision_cone = drone::kDefaultConeDegrees;
   float hider_outside_chance = 0.0f;  // chance that a hider starts just outside the room
   float prop_start_offset = 1.0f;     // levels 1-2: 0 = props start in the doorways, 1 = own place
+  float prop_start_spread = 0.0f;     // chance that an episode's offset is uniform in [0, offset]
   bool prop_cues = true;  // vector [18, 20) and the hiders' masks say what prop actions would do
+  bool object_obs = true;  // the "objects" observation (else zeros)
 };
 
 namespace {
@@ -99,6 +102,7 @@ HideAndSeek::HideAndSeek()
   BehaviorSpec hider;
   hider.name = "Hider";
   hider.observations.push_back({"vector", {kVectorSize}, ObservationKind::kVector, -1.f, 1.f});
+  hider.observations.push_back({"objects", {kObjectsSize}, ObservationKind::kVector, -1.f, 1.f});
   hider.observations.push_back({"rays", {rays_.size()}, ObservationKind::kVector, 0.f, 1.f});
   hider.observations.push_back(
       {"spatial_grid", grid_shape(spatial_grid_), ObservationKind::kGrid, 0.f, 1.f});
@@ -128,6 +132,7 @@ HideAndSeek::HideAndSeek()
       {"reach_shaping", 0.f},
       {"shaping_range", 5.f},
       {"fort_reward", 0.f},
+      {"unlock_cost", 0.f},
       {"tagged_reward", -1.f},
       {"seen_reward", 0.001f},
       {"unseen_reward", 0.f},
@@ -139,7 +144,9 @@ HideAndSeek::HideAndSeek()
       {"vision_cone", drone::kDefaultConeDegrees},
       {"hider_outside_chance", -1.f},
       {"prop_start_offset", 1.f},
+      {"prop_start_spread", 0.f},
       {"prop_cues", 1.f},
+      {"object_obs", 1.f},
   };
   // SPEC section 8: chasing is dated in seeker steps, shelter in hider steps and only counts at
   // level 2 and above (level 1's single doorway is the curriculum's first lesson) with the props
@@ -250,7 +257,9 @@ void HideAndSeek::build_episode() {
   s.vision_range = drone::float_parameter(*this, "vision_range", 0.1f, 100.0f);
   s.vision_cone = drone::float_parameter(*this, "vision_cone", 1.0f, 360.0f);
   s.prop_start_offset = drone::float_parameter(*this, "prop_start_offset", 0.0f, 1.0f);
+  s.prop_start_spread = drone::float_parameter(*this, "prop_start_spread", 0.0f, 1.0f);
   s.prop_cues = drone::int_parameter(*this, "prop_cues", 0, 1) == 1;
+  s.object_obs = drone::int_parameter(*this, "object_obs", 0, 1) == 1;
   // -1: the level's own (0 at levels 1 and 2, 0.5 at 3 and 4)
   const float outside = parameter("hider_outside_chance");
   if (outside != -1.0f && !(outside >= 0.0f && outside <= 1.0f))
@@ -260,6 +269,7 @@ void HideAndSeek::build_episode() {
         std::to_string(outside));
   s.hider_outside_chance = outside == -1.0f ? (level_ >= 3 ? 0.5f : 0.0f) : outside;
   s.fort_reward = parameter("fort_reward");
+  s.unlock_cost = drone::float_parameter(*this, "unlock_cost", 0.0f, 10.0f);
   for (const char* name : {"hide_reward", "hide_reward_level4", "close_reward", "fort_reward",
                            "tagged_reward", "seen_reward", "unseen_reward", "tag_reward"}) {
     if (!std::isfinite(parameter(name)))
@@ -286,7 +296,13 @@ void HideAndSeek::build_episode() {
   const int num_props = level_;
   // levels 1 and 2, prop_start_offset t < 1: prop i starts the fraction t of the way from standing
   // in doorway i (unlocked, covering it, parallel to its wall) to its own start place
-  const float offset = s.prop_start_offset;
+  // (prop_start_spread: this episode's t drawn uniformly from [0, t] instead, with that chance;
+  // the engine is only drawn from when the spread is on, so runs without it keep their episodes)
+  float offset = s.prop_start_offset;
+  if (level_ <= 2 && s.prop_start_spread > 0.0f &&
+      uniform(engine_, 0.0, 1.0) < static_cast<double>(s.prop_start_spread))
+    offset = static_cast<float>(uniform(engine_, 0.0, static_cast<double>(offset)));
+  episode_offset_ = level_ <= 2 ? offset : 1.0f;
   const auto in_doorway = [&](int i) {  // on the floor, as props start
     const btVector3 p = openings[i].centre - openings[i].normal * kInDoorway;
     return btVector3(p.x(), prop_y, p.z());
@@ -445,8 +461,8 @@ void HideAndSeek::reset(StepView& out) {
   }
 }
 
-void HideAndSeek::apply_grab_and_lock(Agent& a, const int* discrete) {
-  if (a.team != kHider) return;  // the mask forbids it; ignore a forbidden choice
+bool HideAndSeek::apply_grab_and_lock(Agent& a, const int* discrete) {
+  if (a.team != kHider) return false;  // the mask forbids it; ignore a forbidden choice
   drone::DroneBody& d = *a.drone;
   const int before = props_->held_by(d);
   if (discrete[kGrabBranch] == 1) {
@@ -462,8 +478,12 @@ void HideAndSeek::apply_grab_and_lock(Agent& a, const int* discrete) {
     if (i >= 0) record_event("lock", &d.body(), (*props_)[i].body);
   } else if (discrete[kLockBranch] == 2) {
     const int i = props_->unlock(d, team);
-    if (i >= 0) record_event("unlock", &d.body(), (*props_)[i].body);
+    if (i >= 0) {
+      record_event("unlock", &d.body(), (*props_)[i].body);
+      return true;
+    }
   }
+  return false;
 }
 
 void HideAndSeek::record_event(const char* type, const btCollisionObject* body,
@@ -697,7 +717,8 @@ void HideAndSeek::step(StepView& io) {
     BehaviorView& view = io[a.team];
     const float* c = view.continuous_action(a.slot);
     for (int k = 0; k < 4; ++k) a.thrust[k] = std::isfinite(c[k]) ? clip1(c[k]) : 0.0f;
-    apply_grab_and_lock(a, view.discrete_action(a.slot));
+    if (apply_grab_and_lock(a, view.discrete_action(a.slot)) && s.reward_preset == 0)
+      view.reward(a.slot) -= s.unlock_cost;
   }
   for (int f = 0; f < s.decision_period && !over_; ++f) {
     const int before = tagged_;
@@ -800,14 +821,73 @@ void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
   // what the lock branch could do now (the vision of the props cannot tell locked from unlocked)
   v[18] = s.prop_cues && props_->lockable(d) >= 0 ? 1.0f : 0.0f;
   v[19] = s.prop_cues && props_->unlockable(d, kHider) >= 0 ? 1.0f : 0.0f;
-  rays_.observe(shapes_, d.body(), view.observation(a.slot, 1));
+  write_objects(view.observation(a.slot, 1), a);
+  rays_.observe(shapes_, d.body(), view.observation(a.slot, 2));
   const drone::GridSensor* grids[2] = {&spatial_grid_, &frontal_grid_};
-  float* outs[2] = {view.observation(a.slot, 2), view.observation(a.slot, 3)};
+  float* outs[2] = {view.observation(a.slot, 3), view.observation(a.slot, 4)};
   drone::GridSensor::observe_many(grids, outs, 2, points_, points_.body_index(d.body()),
                                   d.body().getWorldTransform());
 }
 
+void HideAndSeek::write_objects(float* out, const Agent& a) const {
+  std::fill(out, out + kObjectsSize, 0.0f);
+  if (!settings_->object_obs) return;
+  const drone::DroneBody& d = *a.drone;
+  const btVector3 p = d.position();
+  const btVector3 right = d.right();
+  const btVector3 fwd = d.forward();
+  const float scale = 1.0f / (2.0f * arena_->params().half_size);
+  // a world point relative to the agent, in its frame (right, up, forward) and scaled
+  auto relative = [&](const btVector3& point, float* o) {
+    const btVector3 delta = point - p;
+    o[0] = clip1(delta.dot(right) * scale);
+    o[1] = clip1(delta.y() * scale);
+    o[2] = clip1(delta.dot(fwd) * scale);
+  };
+  const int num_props = std::min(props_->size(), kMaxProps);
+  for (int i = 0; i < num_props; ++i) {
+    const drone::Prop& prop = (*props_)[i];
+    float* o = out + i * kPropFloats;
+    relative(prop.position(), o);
+    o[3] = 1.0f;
+    o[4] = prop.locked() ? 1.0f : 0.0f;
+    o[5] = prop.held_by != nullptr && prop.held_by != &d.body() ? 1.0f : 0.0f;
+    // the panel's normal (its local z) against the agent's forward, as twice the angle
+    const btVector3 normal = prop.body->getWorldTransform().getBasis().getColumn(2);
+    const float c = normal.dot(fwd), sn = normal.dot(right);
+    const float norm = c * c + sn * sn;
+    if (norm > 1e-6f) {
+      o[6] = 2 * sn * c / norm;
+      o[7] = (c * c - sn * sn) / norm;
+    }
+  }
+  float* openings = out + kMaxProps * kPropFloats;
+  for (int k = 0; k < kNumOpenings; ++k) {
+    const drone::Opening& opening = arena_->openings()[k];
+    float* o = openings + k * kOpeningFloats;
+    relative(opening.centre, o);
+    o[3] = opening.open ? 1.0f : 0.0f;
+    o[4] = closed_now_[k] ? 1.0f : 0.0f;
+  }
+  float* mate = openings + kNumOpenings * kOpeningFloats;  // [4]
+  float best = INFINITY;
+  const int slots = a.team == kHider ? kMaxHiders : kMaxSeekers;
+  for (int k = 0; k < slots; ++k) {
+    const Agent& o = agent(a.team, k);
+    if (!o.present || k == a.slot) continue;
+    const float dist = (o.drone->position() - p).length();
+    if (dist >= best) continue;
+    best = dist;
+    relative(o.drone->position(), mate);
+    mate[3] = 1.0f;
+  }
+  float* slot = mate + 4;  // [kMaxSeekers]
+  slot[a.slot] = 1.0f;
+}
+
 void HideAndSeek::update_sensor_scene() {
+  for (int o = 0; o < kNumOpenings; ++o)
+    closed_now_[o] = settings_->object_obs && opening_closed(o);
   points_.update(*world_);
   shapes_.capture(world_->world());
 }
@@ -863,8 +943,8 @@ EpisodeMetrics HideAndSeek::episode_metrics() const {
           {"fort_rate", fort_ ? 1.0f : 0.0f},
           {"openings_closed", static_cast<float>(closed_at_prep_end_)},
           {"tagged", static_cast<float>(tagged_)},
-          // the offset the props started at: the parameter acts at levels 1 and 2 only
-          {"prop_start_offset", level_ <= 2 ? settings_->prop_start_offset : 1.0f}};
+          // the offset the props started at (levels 1 and 2; else 1)
+          {"prop_start_offset", episode_offset_}};
 }
 
 bool HideAndSeek::write_scripted_actions(int behavior, BehaviorView& view) {

@@ -28,7 +28,9 @@
 // t in [0, 1] (default 1) moves prop i the fraction t of the way from standing in doorway i
 // (unlocked, covering it, parallel to its wall: locking it closes the doorway) to that start, for
 // a curriculum that teaches locking before dragging (level 2: the prop's yaw turns the same
-// fraction of the way from parallel to the wall to its random yaw); the shelter strategy counts
+// fraction of the way from parallel to the wall to its random yaw); with chance
+// `prop_start_spread` (default 0) an episode's offset is drawn uniformly from [0, t] instead, so
+// that easier starts stay in the mix while the rest start at t; the shelter strategy counts
 // only episodes whose props started at their own places (metric prop_start_offset 1: t = 1, or
 // level 3 or 4, where the parameter does nothing). Obstacles (level 3: 3, level 4: 5) at random
 // free places on the floor. Every spawn keeps clear of walls and of earlier spawns.
@@ -57,6 +59,9 @@
 //     it back when undone; prop_shaping + reach_shaping is at most 1, what a closed opening holds.
 //     + fort_reward (0) per opening closed when the prep phase ends (the fort the seekers meet:
 //     the close reward pays the closing, this the keeping; a quick unlock and relock pays again).
+//     - unlock_cost (0) from a hider for every prop it unlocks: the held close reward refunds an
+//     unlock on the next relock, so without a cost locking and unlocking again and again costs
+//     nothing and the lock at the end of the prep phase falls where the churn stops.
 //   seeker: reward + seen_reward (0.001) per test-phase frame per hider it sees, times the
 //     assault-horizon signal clipped to [0, 1] when `assault_weighting` = 1; + unseen_reward (0;
 //     negative for the constant penalty of RQ3) per test-phase frame in which no seeker sees any
@@ -79,6 +84,16 @@
 //    hider in front of a prop cannot know whether to lock or leave it (`prop_cues` 0: both 0, and
 //    the hiders' masks allow every option, as for the paper's agents). Values are clipped to
 //    [-1, 1].
+//  "objects" [60] (`object_obs` 1, the default; 0: all zeros, the paper's observations): what
+//    OpenAI's agents observe of the world's entities, in the agent's own frame (right, up,
+//    forward), positions / (2 half_size): per prop slot i < 4 (8 floats: prop i of the level, 0
+//    when it has none): relative centre [3], present, locked, held by another drone, and sin and
+//    cos of twice the angle from the agent's forward to the panel's normal (a panel looks the same
+//    turned by 180 degrees); per opening o < 4 (5 floats, in arena.h's order): relative centre
+//    [3], open at the level, closed now; the nearest teammate: relative centre [3] and present;
+//    the agent's slot one-hot [4] (lets teammates split the work: nothing else tells them apart).
+//    The rays and grids see panels and holes only as "prop" and "wall" hits around the agent;
+//    with these the hiders learn to bring a prop to a doorway far sooner (docs/results).
 //  "rays" [119]: RaySensor with its defaults (17 rays over 360 degrees, 20 m, sphere radius 0.3).
 //  "spatial_grid" [6, 12, 5] and "frontal_grid" [9, 8, 5]: GridSensor's spatial() and frontal()
 //    presets (grid_sensor.h) over the surface points of every body (walls at 1 m, bodies at 0.3 m;
@@ -89,7 +104,7 @@
 // (share of test-phase frames in which some hider was seen), fort_rate (1 when every open opening
 // was closed at the end of the prep phase), openings_closed (how many then), hidden_fraction (share
 // of test-phase frames in which every hider in the game was hidden), tagged (count) and
-// prop_start_offset (the offset the props started at: the parameter at levels 1-2, else 1).
+// prop_start_offset (the offset the props started at: the episode's t at levels 1-2, else 1).
 // Recording (set_recording): every body of the world with its pose at every frame, and the events
 // grab, release, lock, unlock (body: the hider, other: the prop), tag (body: the hider), closed
 // (other: the opening's index, 0-3 as in arena.h) and prep_end.
@@ -120,6 +135,12 @@ class HideAndSeek : public Env {
   static constexpr int kMaxHiders = 2;
   static constexpr int kMaxSeekers = 4;
   static constexpr int kVectorSize = 20;
+  static constexpr int kMaxProps = 4;  // level 4
+  static constexpr int kPropFloats = 8;
+  static constexpr int kOpeningFloats = 5;
+  // "objects": props, openings, the nearest teammate, own slot (see the header comment)
+  static constexpr int kObjectsSize =
+      kMaxProps * kPropFloats + drone::kNumOpenings * kOpeningFloats + 4 + kMaxSeekers;
   static constexpr int kMaxEpisodeFrames = 6144;  // largest `episode_frames`
   static constexpr int kGrabBranch = 0;           // options: 0 release, 1 hold
   static constexpr int kLockBranch = 1;           // options: 0 none, 1 lock, 2 unlock
@@ -169,7 +190,8 @@ class HideAndSeek : public Env {
  private:
   struct Settings;
   void build_episode();
-  void apply_grab_and_lock(Agent& agent, const int* discrete);
+  // true when the agent unlocked a prop
+  bool apply_grab_and_lock(Agent& agent, const int* discrete);
   void run_frame(StepView& io);
   void tag(Agent& hider, StepView& io);
   void check_openings(StepView& io);
@@ -180,12 +202,14 @@ class HideAndSeek : public Env {
   float opening_potential(const std::array<bool, drone::kNumOpenings>& closed) const;
   void pay_baker_rewards(StepView& io);
   void write_observation(BehaviorView& view, const Agent& agent);
+  void write_objects(float* out, const Agent& agent) const;  // out: [kObjectsSize]
   void write_mask(BehaviorView& view, const Agent& agent) const;
   void end_episode(StepView& io, bool terminated);
   void record_frame();
   // the rewards of the decision just taken, on its last recorded frame
   void record_rewards(StepView& io);
-  // the sensors' copies of the world, refreshed once per step before observations are written
+  // the sensors' copies of the world (and closed_now_), refreshed once per step before
+  // observations are written
   void update_sensor_scene();
   // an event for the recording: `body` did it to `other` (or to the thing numbered `index`)
   void record_event(const char* type, const btCollisionObject* body,
@@ -214,7 +238,9 @@ class HideAndSeek : public Env {
   long prep_frames_ = 0;
   bool over_ = false;
   std::array<bool, drone::kNumOpenings> ever_closed_{};
-  float potential_ = 0.0f;  // close_reward_mode 1-2: opening_potential() at the last decision
+  float potential_ = 0.0f;
+  float episode_offset_ = 1.0f;  // the props' start offset this episode (1 at levels 3-4)
+  std::array<bool, drone::kNumOpenings> closed_now_{};  // for "objects", at update_sensor_scene  // close_reward_mode 1-2: opening_potential() at the last decision
 
   // metrics
   int tagged_ = 0;

@@ -16,7 +16,7 @@ void set_compute_threads(int threads);
 void set_blas_threads(int threads);
 
 // Threads for a learner update (environments are idle then): every core once the first layer's
-// matrix product is large (obs_size x hidden_units >= 65536: hide-and-seek's 859 x 256 is 3.4x
+// matrix product is large (obs_size x hidden_units >= 65536: hide-and-seek's 919 x 256 is 3.6x
 // that), one thread below, where the thread pools' overhead outweighs the work.
 int update_threads(int obs_size, int hidden_units, int cores);
 

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <map>
+#include <numeric>
 
 #include "env/register_builtin_envs.h"
 #include "rl/env_api/conformance.h"
@@ -93,6 +94,9 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"reach_shaping", 0.6f},  // + 0.5 > 1
                                                   {"shaping_range", 0.f},
                                                   {"prop_cues", 2.f},
+                                                  {"object_obs", -1.f},
+                                                  {"prop_start_spread", 1.5f},
+                                                  {"unlock_cost", -0.1f},
                                                   {"fort_reward", NAN}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
@@ -189,6 +193,43 @@ TEST(HideAndSeekTest, PropStartOffsetMovesPropsTowardsTheirDoorways) {
   {
     Game g({{"level", 3.f}, {"prop_start_offset", 0.f}}, 3);
     EXPECT_FLOAT_EQ(g.env.episode_metrics().at("prop_start_offset"), 1.0f);
+  }
+}
+
+// prop_start_spread: that share of the episodes starts its props at an offset drawn from
+// [0, prop_start_offset], the others at prop_start_offset; the metric says which
+TEST(HideAndSeekTest, PropStartSpreadMixesEasierStartsIn) {
+  Game g({{"level", 2.f}, {"prop_start_offset", 0.8f}, {"prop_start_spread", 0.5f}}, 5);
+  int at_offset = 0, below = 0;
+  std::vector<float> drawn;
+  for (int episode = 0; episode < 200; ++episode) {
+    g.harness.reset();
+    const float t = g.env.episode_metrics().at("prop_start_offset");
+    ASSERT_GE(t, 0.0f);
+    ASSERT_LE(t, 0.8f);
+    if (t == 0.8f) {
+      ++at_offset;
+    } else {
+      ++below;
+      drawn.push_back(t);
+    }
+  }
+  EXPECT_GT(at_offset, 70);  // binomial(200, 0.5): 100 +- 7
+  EXPECT_GT(below, 70);
+  const float mean = std::accumulate(drawn.begin(), drawn.end(), 0.0f) / drawn.size();
+  EXPECT_NEAR(mean, 0.4f, 0.06f);  // uniform on [0, 0.8]
+  // without a spread every episode starts at the offset, and the same seed gives the same starts
+  Game plain({{"level", 2.f}, {"prop_start_offset", 0.8f}}, 5);
+  for (int episode = 0; episode < 20; ++episode) {
+    plain.harness.reset();
+    ASSERT_EQ(plain.env.episode_metrics().at("prop_start_offset"), 0.8f);
+  }
+  Game again({{"level", 2.f}, {"prop_start_offset", 0.8f}, {"prop_start_spread", 0.5f}}, 5);
+  Game once_more({{"level", 2.f}, {"prop_start_offset", 0.8f}, {"prop_start_spread", 0.5f}}, 5);
+  for (int episode = 0; episode < 10; ++episode) {
+    again.harness.reset();
+    once_more.harness.reset();
+    ASSERT_EQ(again.env.props()[1].position(), once_more.env.props()[1].position());
   }
 }
 
@@ -392,6 +433,72 @@ TEST(HideAndSeekTest, WithoutPropCuesHidersMayChooseAnyPropAction) {
   EXPECT_EQ(g.hiders().observations[0][19], 0.0f);
 }
 
+// "objects": props, openings and the teammate where they are relative to the agent, what state
+// they are in, and the agent's slot; all zeros with object_obs 0
+TEST(HideAndSeekTest, ObjectsObservationPlacesPropsOpeningsAndTheTeammate) {
+  constexpr int kOpenings = HideAndSeek::kMaxProps * HideAndSeek::kPropFloats;
+  constexpr int kMate = kOpenings + drone::kNumOpenings * HideAndSeek::kOpeningFloats;
+  constexpr float kScale = 1.0f / 24.0f;  // positions / (2 half_size)
+  Game g({{"level", 1.f}, {"num_hiders", 2.f}, {"num_seekers", 1.f}});
+  ASSERT_EQ(g.env.spec().behaviors[0].observations[1].name, "objects");
+  ASSERT_EQ(g.env.spec().behaviors[0].observations[1].size(), HideAndSeek::kObjectsSize);
+  const auto objects = [&](int row) {
+    const float* o = g.hiders().observations[1].data() + row * HideAndSeek::kObjectsSize;
+    return std::vector<float>(o, o + HideAndSeek::kObjectsSize);
+  };
+  place_prop_in_doorway_and_hider_before_it(g);
+  auto& me = *g.env.agent(HideAndSeek::kHider, 0).drone;
+  auto& mate = *g.env.agent(HideAndSeek::kHider, 1).drone;
+  btTransform pose = mate.body().getWorldTransform();
+  pose.setOrigin(me.position() + me.right() * 3.0f);
+  mate.body().setWorldTransform(pose);
+  // hider 0 takes hold of the prop it faces
+  g.set_all(0.0f);
+  g.hiders().discrete_actions[0] = 1;
+  g.harness.step();
+  ASSERT_GE(g.env.props().held_by(me), 0);
+  std::vector<float> o = objects(0);
+  const btVector3 to_prop = g.env.props()[0].position() - me.position();
+  EXPECT_NEAR(o[0], to_prop.dot(me.right()) * kScale, 1e-3f);
+  EXPECT_NEAR(o[2], to_prop.dot(me.forward()) * kScale, 1e-3f);
+  EXPECT_GT(o[2], 0.8f * kScale);  // about 1.2 m ahead
+  EXPECT_EQ(o[3], 1.0f);           // present
+  EXPECT_EQ(o[4], 0.0f);           // not locked
+  EXPECT_EQ(o[5], 0.0f);           // held, but by this hider
+  EXPECT_NEAR(std::abs(o[7]), 1.0f, 0.05f);  // the panel faces the hider or turns its back: |cos| 1
+  for (int i = 1; i < HideAndSeek::kMaxProps; ++i)
+    EXPECT_EQ(o[i * HideAndSeek::kPropFloats + 3], 0.0f) << "level 1 has one prop";
+  const drone::Opening& door = g.env.arena().openings()[0];
+  EXPECT_NEAR(o[kOpenings + 2], (door.centre - me.position()).dot(me.forward()) * kScale, 1e-3f);
+  EXPECT_EQ(o[kOpenings + 3], 1.0f);  // open at level 1
+  EXPECT_EQ(o[kOpenings + 4], 0.0f);  // not closed
+  for (int k = 1; k < drone::kNumOpenings; ++k)
+    EXPECT_EQ(o[kOpenings + k * HideAndSeek::kOpeningFloats + 3], 0.0f) << "opening " << k;
+  EXPECT_NEAR(o[kMate], (mate.position() - me.position()).dot(me.right()) * kScale, 1e-3f);
+  EXPECT_GT(o[kMate], 2.5f * kScale);
+  EXPECT_EQ(o[kMate + 3], 1.0f);
+  EXPECT_EQ(o[kMate + 4], 1.0f);  // slot 0
+  EXPECT_EQ(o[kMate + 5], 0.0f);
+  // the teammate sees the prop held by another drone, and itself in slot 1
+  std::vector<float> m = objects(1);
+  EXPECT_EQ(m[5], 1.0f);
+  EXPECT_EQ(m[kMate + 4], 0.0f);
+  EXPECT_EQ(m[kMate + 5], 1.0f);
+  // locked where it stands: the prop is locked and the doorway closed
+  g.set_all(0.0f, 0, 1);
+  g.harness.step();
+  ASSERT_TRUE(g.env.opening_closed(0));
+  o = objects(0);
+  EXPECT_EQ(o[4], 1.0f);
+  EXPECT_EQ(o[kOpenings + 4], 1.0f);
+  // object_obs 0: the paper's observations, nothing in "objects"
+  Game off({{"level", 2.f}, {"object_obs", 0.f}});
+  off.idle_step();
+  for (float x : std::vector<float>(off.hiders().observations[1].begin(),
+                                    off.hiders().observations[1].end()))
+    ASSERT_EQ(x, 0.0f);
+}
+
 TEST(HideAndSeekTest, FortRewardPaysEveryOpeningClosedWhenThePrepPhaseEnds) {
   for (const bool lock : {true, false}) {
     Game g({{"level", 1.f},
@@ -443,6 +550,30 @@ TEST(HideAndSeekTest, HeldCloseRewardIsTakenBackWhenTheDoorwayOpens) {
   EXPECT_NEAR(step(2), -0.5f, 1e-6f);
   EXPECT_NEAR(step(1), 0.5f, 1e-6f);
   EXPECT_NEAR(total, 0.5f, 1e-5f);  // what the hiders hold: one closed doorway
+}
+
+// unlock_cost: every unlock costs the hider that made it, so churning is no longer free
+TEST(HideAndSeekTest, UnlockCostIsTakenPerUnlock) {
+  Game g({{"level", 1.f},
+          {"num_hiders", 1.f},
+          {"num_seekers", 1.f},
+          {"close_reward", 0.5f},
+          {"close_reward_mode", 1.f},
+          {"unlock_cost", 0.05f}});
+  place_prop_in_doorway_and_hider_before_it(g);
+  float total = 0.0f;
+  auto step = [&](int lock) {
+    g.set_all(0.0f, 0, lock);
+    g.harness.step();
+    total += g.hiders().reward[0];
+    return g.hiders().reward[0];
+  };
+  EXPECT_NEAR(step(1), 0.5f, 1e-6f);
+  EXPECT_NEAR(step(2), -0.55f, 1e-6f);  // opened by an unlock: taken back, and the cost
+  EXPECT_NEAR(step(1), 0.5f, 1e-6f);
+  EXPECT_NEAR(step(2), -0.55f, 1e-6f);
+  EXPECT_NEAR(step(2), 0.0f, 1e-6f);  // nothing left to unlock: no cost
+  EXPECT_NEAR(total, -0.1f, 1e-5f);
 }
 
 TEST(HideAndSeekTest, ShapedCloseRewardPaysForBringingAPropNear) {
@@ -624,7 +755,7 @@ TEST(HideAndSeekTest, RecordingHoldsTheOpeningsTheConesAndEveryRewardPaid) {
   for (const RecordedBody& b : rec.bodies) {
     const bool drone = b.kind == "hider" || b.kind == "seeker";
     EXPECT_EQ(b.vision_range > 0, drone) << b.kind;
-    if (drone) EXPECT_GT(b.vision_cone_degrees, 0);
+    if (drone) { EXPECT_GT(b.vision_cone_degrees, 0); }
   }
 }
 
