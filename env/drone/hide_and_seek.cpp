@@ -21,6 +21,7 @@ constexpr float kPi = 3.14159265358979f;
 constexpr float kSpawnHeight = 1.0f;  // drones start at this height (m)
 constexpr int kSpawnAttempts = 2000;
 constexpr float kClosedCover = 0.5f;  // an opening is closed when more than half is covered
+constexpr float kCoverReach = 2.0f;   // m: a prop centred farther from an opening cannot cover it
 
 // a prop standing in a doorway: its centre this far inside the wall's centre plane (the panel,
 // 0.2 m thick, clears the wall's inner face and covers the doorway for covered_fraction)
@@ -59,6 +60,7 @@ struct HideAndSeek::Settings {
   int close_reward_mode = 0;
   float prop_shaping = 0.5f;   // mode 2: share held for a prop near an open opening
   float reach_shaping = 0.0f;  // mode 2: share held for a hider near that prop
+  float cover_shaping = 0.0f;  // mode 2: share held for an unlocked prop covering the opening
   float shaping_range = 5.0f;  // m: nearness is 1 - distance / shaping_range, 0 beyond
   float fort_reward = 0.0f;    // per opening closed when the prep phase ends, to every hider
   float unlock_cost = 0.0f;    // taken from a hider per prop it unlocks
@@ -130,6 +132,7 @@ HideAndSeek::HideAndSeek()
       {"close_reward_mode", 0.f},
       {"prop_shaping", 0.5f},
       {"reach_shaping", 0.f},
+      {"cover_shaping", 0.f},
       {"shaping_range", 5.f},
       {"fort_reward", 0.f},
       {"unlock_cost", 0.f},
@@ -241,11 +244,12 @@ void HideAndSeek::build_episode() {
   s.close_reward_mode = drone::int_parameter(*this, "close_reward_mode", 0, 2);
   s.prop_shaping = drone::float_parameter(*this, "prop_shaping", 0.0f, 1.0f);
   s.reach_shaping = drone::float_parameter(*this, "reach_shaping", 0.0f, 1.0f);
-  if (s.prop_shaping + s.reach_shaping > 1.0f)
+  s.cover_shaping = drone::float_parameter(*this, "cover_shaping", 0.0f, 1.0f);
+  if (s.prop_shaping + s.reach_shaping + s.cover_shaping > 1.0f)
     throw std::invalid_argument(
-        "HideAndSeek: parameters prop_shaping + reach_shaping must be at most 1 (a closed "
-        "opening holds 1), got " +
-        std::to_string(s.prop_shaping + s.reach_shaping));
+        "HideAndSeek: parameters prop_shaping + reach_shaping + cover_shaping must be at most 1 "
+        "(a closed opening holds 1), got " +
+        std::to_string(s.prop_shaping + s.reach_shaping + s.cover_shaping));
   s.shaping_range = drone::float_parameter(*this, "shaping_range", 0.1f, 50.0f);
   s.tagged_reward = parameter("tagged_reward");
   s.seen_reward = parameter("seen_reward");
@@ -520,7 +524,7 @@ bool HideAndSeek::opening_closed(int o) const {
     const drone::Prop& prop = (*props_)[i];
     if (!prop.locked()) continue;
     const btVector3 d = prop.position() - opening.centre;
-    if (d.length() > 2.0f) continue;  // too far to cover it
+    if (d.length() > kCoverReach) continue;  // too far to cover it
     if (drone::covered_fraction(opening, *prop.body) > kClosedCover) return true;
   }
   return false;
@@ -633,7 +637,8 @@ void HideAndSeek::run_frame(StepView& io) {
 
 float HideAndSeek::opening_potential(const std::array<bool, kNumOpenings>& closed) const {
   // one per closed opening; with mode 2, for an open opening, prop_shaping times how near the
-  // nearest prop is and reach_shaping times how near the nearest hider is to that prop
+  // nearest prop is, reach_shaping times how near the nearest hider is to that prop and
+  // cover_shaping times how much of it an unlocked prop covers
   const Settings& s = *settings_;
   const auto nearness = [&](float d) { return std::max(0.0f, 1.0f - d / s.shaping_range); };
   float potential = 0.0f;
@@ -656,6 +661,16 @@ float HideAndSeek::opening_potential(const std::array<bool, kNumOpenings>& close
     }
     if (nearest_prop < 0) continue;
     potential += s.prop_shaping * nearness(nearest);
+    if (s.cover_shaping != 0.0f) {
+      // the unlocked prop covering most of it, full once locking it would close the opening
+      float cover = 0.0f;
+      for (int i = 0; i < props_->size() && cover < kClosedCover; ++i) {
+        const drone::Prop& prop = (*props_)[i];
+        if (prop.locked() || (prop.position() - opening.centre).length() > kCoverReach) continue;
+        cover = std::max(cover, drone::covered_fraction(opening, *prop.body));
+      }
+      potential += s.cover_shaping * std::min(1.0f, cover / kClosedCover);
+    }
     if (s.reach_shaping == 0.0f) continue;
     const btVector3 prop = (*props_)[nearest_prop].position();
     float hider = std::numeric_limits<float>::infinity();

@@ -54,9 +54,12 @@
 //     locking again pays nothing more). With 2 (held and shaped) they also hold, for each open
 //     opening that is not closed, the close reward times prop_shaping (0.5) times how near the
 //     nearest prop is to its centre, plus reach_shaping (0) times how near the nearest hider is to
-//     that prop; nearness is 1 - distance / shaping_range (5 m), 0 beyond. Potential-based shaping
-//     (Ng, Harada and Russell 1999): it pays for each link of the chain reach, drag, lock and takes
-//     it back when undone; prop_shaping + reach_shaping is at most 1, what a closed opening holds.
+//     that prop, plus cover_shaping (0) times the largest share of the opening an unlocked prop
+//     covers, over the share that closes it (capped at 1: a prop that would close it if locked);
+//     nearness is 1 - distance / shaping_range (5 m), 0 beyond. Potential-based shaping (Ng,
+//     Harada and Russell 1999): it pays for each link of the chain reach, drag, cover, lock and
+//     takes it back when undone; prop_shaping + reach_shaping + cover_shaping is at most 1, what
+//     a closed opening holds.
 //     + fort_reward (0) per opening closed when the prep phase ends (the fort the seekers meet:
 //     the close reward pays the closing, this the keeping; a quick unlock and relock pays again).
 //     - unlock_cost (0) from a hider for every prop it unlocks: the held close reward refunds an
@@ -196,8 +199,9 @@ class HideAndSeek : public Env {
   void tag(Agent& hider, StepView& io);
   void check_openings(StepView& io);
   // close_reward_mode 1: the number of closed openings; 2: plus, per open opening not closed,
-  // prop_shaping n(d) + reach_shaping n(e), with d the distance from its centre to the nearest
-  // prop's, e from that prop's to the nearest hider's and n(x) = max(0, 1 - x / shaping_range)
+  // prop_shaping n(d) + reach_shaping n(e) + cover_shaping min(1, c / 0.5), with d the distance
+  // from its centre to the nearest prop's, e from that prop's to the nearest hider's, c the
+  // largest share an unlocked prop covers and n(x) = max(0, 1 - x / shaping_range)
   // (`closed`: opening_closed of each opening, computed once by the caller)
   float opening_potential(const std::array<bool, drone::kNumOpenings>& closed) const;
   void pay_baker_rewards(StepView& io);

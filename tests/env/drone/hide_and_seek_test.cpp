@@ -97,6 +97,7 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"object_obs", -1.f},
                                                   {"prop_start_spread", 1.5f},
                                                   {"unlock_cost", -0.1f},
+                                                  {"cover_shaping", 0.6f},  // + 0.5 > 1
                                                   {"fort_reward", NAN}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
@@ -608,6 +609,51 @@ TEST(HideAndSeekTest, ShapedCloseRewardPaysForBringingAPropNear) {
   step();
   move_prop(6.0f);
   EXPECT_EQ(step(), 0.0f);  // beyond 5 m nearness is 0
+}
+
+// cover_shaping: an unlocked prop pays as it comes to cover the doorway, in full once locking it
+// would close it; turned away or locked short it pays nothing
+TEST(HideAndSeekTest, CoverShapingPaysForAPropCoveringTheDoorway) {
+  Game g({{"level", 1.f},
+          {"num_hiders", 1.f},
+          {"num_seekers", 1.f},
+          {"close_reward", 1.f},
+          {"close_reward_mode", 2.f},
+          {"prop_shaping", 0.f},
+          {"cover_shaping", 0.5f}});
+  const drone::Opening& door = g.env.arena().openings()[0];
+  auto& prop = g.env.props()[0];
+  // the prop centred `d` metres inside the doorway's centre, turned `yaw` from flat against it
+  auto move_prop = [&](float d, float yaw) {
+    btTransform pose = prop.body->getWorldTransform();
+    btVector3 p = door.centre - door.normal * d;
+    p.setY(prop.half.y() + 0.02f);
+    pose.setOrigin(p);
+    pose.setRotation(btQuaternion(btVector3(0, 1, 0), yaw));
+    prop.body->setWorldTransform(pose);
+    prop.body->setLinearVelocity(btVector3(0, 0, 0));
+    prop.body->setAngularVelocity(btVector3(0, 0, 0));
+  };
+  move_prop(1.8f, 1.5708f);  // side on, short of the doorway: covers nothing
+  g.idle_step();
+  EXPECT_EQ(g.idle_step(), 0.0f);
+  move_prop(0.25f, 0.0f);  // flat in the doorway: would close it
+  ASSERT_GT(drone::covered_fraction(door, *prop.body), 0.5f);
+  EXPECT_NEAR(g.idle_step(), 0.5f, 1e-4f);  // cover_shaping x close_reward
+  move_prop(0.25f, 1.5708f);  // turned side on where it stands: the share is taken back
+  const float turned = g.idle_step();
+  const float cover = drone::covered_fraction(door, *prop.body);
+  ASSERT_LT(cover, 0.5f);
+  EXPECT_NEAR(turned, 0.5f * (cover / 0.5f - 1.0f), 1e-4f);
+  EXPECT_LT(turned, -0.1f);
+  move_prop(0.25f, 0.0f);
+  g.idle_step();
+  // locked there it closes the doorway: the rest of the opening's 1 is paid
+  place_prop_in_doorway_and_hider_before_it(g);
+  g.set_all(0.0f, 0, 1);
+  g.harness.step();
+  ASSERT_TRUE(g.env.opening_closed(0));
+  EXPECT_NEAR(g.hiders().reward[0], 0.5f, 1e-4f);
 }
 
 TEST(HideAndSeekTest, ReachShapingPaysForAHiderComingNearTheProp) {
