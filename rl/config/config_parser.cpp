@@ -701,6 +701,10 @@ void Parser::parse_env_settings(const std::optional<Val>& value, EnvSettings* en
                   [&](const Val& v) {
                     env->num_threads = read_int32(v, IntRange{0, kIntMax});
                   }},
+                 {"stagger_steps",
+                  [&](const Val& v) {
+                    env->stagger_steps = read_int32(v, IntRange{0, kIntMax});
+                  }},
                  {"params",
                   [&](const Val& v) {
                     for_each_entry(v, [&](const std::string& name, const Val& p) {
@@ -1362,6 +1366,7 @@ std::string run_config_to_yaml(const RunConfig& config) {
   out << YAML::Key << "num_envs" << YAML::Value << env.num_envs;
   out << YAML::Key << "seed" << YAML::Value << static_cast<long long>(env.seed);
   out << YAML::Key << "num_threads" << YAML::Value << env.num_threads;
+  out << YAML::Key << "stagger_steps" << YAML::Value << env.stagger_steps;
   out << YAML::Key << "params" << YAML::Value;
   emit_float_map(out, env.params);
   out << YAML::EndMap;

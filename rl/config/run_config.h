@@ -88,6 +88,9 @@ struct EnvSettings {
   int num_envs = 1;          // env instances stepped together
   int64_t seed = -1;         // base seed; -1 picks 0 (deterministic by default)
   int num_threads = 0;       // extension: env worker threads (0 = one per core, capped at num_envs)
+  // extension: after every (re)start instance i plays i * stagger_steps / num_envs still steps
+  // first (VectorEnv::stagger), so the instances' episodes are spread out; 0 = off
+  int stagger_steps = 0;
   std::map<std::string, float> params;  // extension: env parameters applied at construction
 };
 

@@ -21,6 +21,7 @@ VectorEnv::VectorEnv(const std::string& env_id, int num_envs, uint64_t base_seed
   }
   needs_reset_.assign(num_envs, 1);
   just_finished_.assign(num_envs, 0);
+  partial_.assign(num_envs, 0);
   last_metrics_.resize(num_envs);
   last_recording_.resize(num_envs);
 }
@@ -62,6 +63,50 @@ void VectorEnv::start_episodes() {
     }
     envs_[i]->reset(views_[i]);
     needs_reset_[i] = 0;
+    partial_[i] = 0;
+  });
+}
+
+void VectorEnv::write_still_actions(int i) {
+  for (auto& v : views_[i]) {
+    const ActionSpec& a = v.spec().action;
+    for (int s = 0; s < v.slots(); ++s) {
+      if (!needs_action(v.step_type(s))) continue;
+      std::fill(v.continuous_action_out(s), v.continuous_action_out(s) + a.continuous_size, 0.f);
+      const uint8_t* mask = a.mask_size() > 0 ? v.action_mask(s) : nullptr;
+      int32_t* out = v.discrete_action_out(s);
+      for (int j = 0, offset = 0; j < a.num_branches(); offset += a.discrete_branches[j++]) {
+        out[j] = 0;
+        for (int o = 0; mask != nullptr && o < a.discrete_branches[j]; ++o)
+          if (mask[offset + o]) {
+            out[j] = o;
+            break;
+          }
+      }
+    }
+  }
+}
+
+void VectorEnv::stagger(int span) {
+  if (span <= 0) return;
+  pool_.parallel_for(num_envs(), [this, span](int i) {
+    const int64_t steps = int64_t(i) * span / num_envs();
+    if (steps == 0) return;
+    for (int64_t k = 0; k < steps; ++k) {
+      write_still_actions(i);
+      for (auto& v : views_[i]) v.clear_step();
+      envs_[i]->step(views_[i]);
+      partial_[i] = 1;
+      if (!episode_over(i)) continue;
+      // ended during the warm-up: a whole episode from here on
+      for (auto& v : views_[i]) {
+        v.clear_step();
+        v.clear_agents();
+      }
+      envs_[i]->reset(views_[i]);
+      partial_[i] = 0;
+    }
+    for (auto& v : views_[i]) v.clear_step();  // the warm-up's rewards are nobody's
   });
 }
 
@@ -88,7 +133,9 @@ void VectorEnv::step() {
   for (int i = 0; i < num_envs(); ++i) {
     if (!just_finished_[i]) continue;
     just_finished_[i] = 0;
-    finished_.push_back({i, std::move(last_metrics_[i]), std::move(last_recording_[i])});
+    if (!partial_[i])
+      finished_.push_back({i, std::move(last_metrics_[i]), std::move(last_recording_[i])});
+    partial_[i] = 0;
     last_recording_[i].reset();
   }
 }

@@ -53,6 +53,14 @@ class VectorEnv {
   void reseed_and_reset(uint64_t seed);
   // Steps every instance with the actions in the buffers (or resets those whose episode ended).
   void step();
+  // Spreads the instances over their episodes: instance i plays i * span / num_envs steps with
+  // still actions (every continuous action 0, each branch's first allowed option), so that
+  // instances that started together are at different points of their episodes (a trainer whose
+  // buffer holds less than an episode then does not learn from one phase of it at a time). Call
+  // it right after reset(); the buffers then hold each instance's current step. The episodes
+  // played into are partial: take_finished_episodes() leaves them out, and an instance whose
+  // episode ends during the warm-up starts a fresh one.
+  void stagger(int span);
 
   // Writes the actions of every slot of `behavior` that needs one with the env's scripted policy
   // (Env::write_scripted_actions) in every instance; false when the env has none.
@@ -62,11 +70,12 @@ class VectorEnv {
   // Records every episode from now on (Env::set_recording); finished episodes carry it.
   void set_recording(bool on);
 
-  // Episodes that ended since the last call, in env order.
+  // Episodes that ended since the last call, in env order (not those stagger() played into).
   std::vector<FinishedEpisode> take_finished_episodes();
 
  private:
   bool episode_over(int env_index);
+  void write_still_actions(int env_index);
   void start_episodes();  // resets every instance without reseeding
 
   uint64_t base_seed_ = 0;  // seed of env 0 at reset()
@@ -75,6 +84,7 @@ class VectorEnv {
   std::vector<StepView> views_;               // one per env
   std::vector<uint8_t> needs_reset_;          // [num_envs]
   std::vector<uint8_t> just_finished_;        // [num_envs]
+  std::vector<uint8_t> partial_;              // [num_envs] 1: the episode began before stagger()
   std::vector<EpisodeMetrics> last_metrics_;  // [num_envs]
   std::vector<std::shared_ptr<EpisodeRecording>> last_recording_;  // [num_envs]
   std::vector<FinishedEpisode> finished_;

@@ -45,6 +45,7 @@ OnPolicyTrainer::OnPolicyTrainer(const BehaviorSpec& spec, const BehaviorConfig&
   episode_return_.assign(rows, 0.0);
   episode_group_return_.assign(rows, 0.0);
   episode_length_.assign(rows, 0);
+  whole_episode_.assign(rows, 0);
   buffer_.obs_size = obs_size_;
   buffer_.continuous_size = spec.action.continuous_size;
   buffer_.num_branches = spec.action.num_branches();
@@ -121,6 +122,7 @@ void OnPolicyTrainer::act(BehaviorBuffers& buf, const std::vector<uint8_t>* lear
       episode_return_[r] = 0.0;
       episode_group_return_[r] = 0.0;
       episode_length_[r] = 0;
+      whole_episode_[r] = 1;
     }
     t.obs.insert(t.obs.end(), act_obs_.data() + i * obs_size_, act_obs_.data() + (i + 1) * obs_size_);
     for (int j = 0; j < c; ++j) t.continuous.push_back(act_out_.continuous(i, j));
@@ -151,9 +153,14 @@ void OnPolicyTrainer::observe(const BehaviorBuffers& buf) {
     episode_group_return_[r] += buf.group_reward[r];
     episode_length_[r] += 1;
     if (st == StepType::kLast) {
-      episode_stats_.returns.push_back(float(episode_return_[r]));
-      episode_stats_.group_returns.push_back(float(episode_group_return_[r]));
-      episode_stats_.lengths.push_back(float(episode_length_[r]));
+      // an episode joined midway (VectorEnv::stagger, after a checkpoint boundary) is learned
+      // from but not counted in the returns
+      if (whole_episode_[r]) {
+        episode_stats_.returns.push_back(float(episode_return_[r]));
+        episode_stats_.group_returns.push_back(float(episode_group_return_[r]));
+        episode_stats_.lengths.push_back(float(episode_length_[r]));
+      }
+      whole_episode_[r] = 0;
       (buf.terminated[r] ? terminated : bootstrapped).push_back(r);
     } else if (int(rewards_[r].size()) >= config_.time_horizon) {
       bootstrapped.push_back(r);
@@ -165,6 +172,7 @@ void OnPolicyTrainer::observe(const BehaviorBuffers& buf) {
 }
 
 void OnPolicyTrainer::interrupt_all(const BehaviorBuffers& buf) {
+  std::fill(whole_episode_.begin(), whole_episode_.end(), 0);
   std::vector<int> rows;
   for (int r = 0; r < rows_; ++r)
     if (!rewards_[r].empty()) rows.push_back(r);

@@ -164,6 +164,7 @@ class OnPolicyTrainer {
   std::vector<double> episode_return_;         // [rows] cumulative reward of the running episode
   std::vector<double> episode_group_return_;   // [rows] cumulative group reward of that episode
   std::vector<int> episode_length_;            // [rows]
+  std::vector<uint8_t> whole_episode_;         // [rows] 1: seen from its first step (stats count)
   ExperienceBuffer buffer_;                    // the update buffer
   EpisodeStats episode_stats_;
   Communicator* comm_ = nullptr;          // data-parallel replicas, or alone

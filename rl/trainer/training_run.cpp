@@ -222,6 +222,7 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
   for (int b = 0; b < nb; ++b) buffers.push_back(&env_->buffers(b));
   sample_all_parameters();
   env_->reseed_and_reset(boundary_seed(boundary_index_));
+  env_->stagger(config_.env_settings.stagger_steps);
   using Clock = std::chrono::steady_clock;
   auto seconds_since = [](Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
@@ -394,6 +395,7 @@ void TrainingRun::boundary(bool final) {
   if (!final) {
     sample_all_parameters();
     env_->reseed_and_reset(boundary_seed(boundary_index_));
+    env_->stagger(config_.env_settings.stagger_steps);
   }
 }
 
@@ -424,6 +426,7 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
     ++lesson_resets_;
     sample_all_parameters();
     env_->reseed_and_reset(boundary_seed(boundary_index_) ^ (uint64_t(lesson_resets_) << 40));
+    env_->stagger(config_.env_settings.stagger_steps);
     return;
   }
   // instances that just ended an episode get fresh values for their next reset

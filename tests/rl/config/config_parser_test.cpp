@@ -106,6 +106,7 @@ void expect_same(const RunConfig& a, const RunConfig& b) {
   EXPECT_EQ(a.env_settings.num_envs, b.env_settings.num_envs);
   EXPECT_EQ(a.env_settings.seed, b.env_settings.seed);
   EXPECT_EQ(a.env_settings.num_threads, b.env_settings.num_threads);
+  EXPECT_EQ(a.env_settings.stagger_steps, b.env_settings.stagger_steps);
   EXPECT_EQ(a.env_settings.params, b.env_settings.params);
   EXPECT_EQ(a.checkpoint_settings.run_id, b.checkpoint_settings.run_id);
   EXPECT_EQ(a.checkpoint_settings.initialize_from, b.checkpoint_settings.initialize_from);
@@ -147,6 +148,7 @@ env_settings:
   num_envs: 8
   seed: 42
   num_threads: 2
+  stagger_steps: 500
   params:
     gravity: 9.81
   base_port: 5005
@@ -198,6 +200,7 @@ TEST(ConfigParserTest, EmptyBehaviorGetsMlAgentsDefaults) {
   EXPECT_EQ(config.env_settings.num_envs, 1);
   EXPECT_EQ(config.env_settings.seed, -1);
   EXPECT_EQ(config.env_settings.num_threads, 0);
+  EXPECT_EQ(config.env_settings.stagger_steps, 0);
   EXPECT_TRUE(config.env_settings.params.empty());
   EXPECT_EQ(config.checkpoint_settings.run_id, "ppo");
   EXPECT_EQ(config.checkpoint_settings.results_dir, "results");
@@ -236,6 +239,7 @@ TEST(ConfigParserTest, ReadsMlAgents3DBallConfig) {
   EXPECT_EQ(config.env_settings.num_envs, 8);
   EXPECT_EQ(config.env_settings.seed, 42);
   EXPECT_EQ(config.env_settings.num_threads, 2);
+  EXPECT_EQ(config.env_settings.stagger_steps, 500);
   EXPECT_EQ(config.env_settings.params, (std::map<std::string, float>{{"gravity", 9.81f}}));
   EXPECT_EQ(config.checkpoint_settings.run_id, "ball-1");
   EXPECT_EQ(config.checkpoint_settings.results_dir, "out/results");
@@ -1017,6 +1021,8 @@ TEST(ConfigParserErrorTest, OutOfRangeValues) {
   expect_error(env + "num_threads: -1\n", "env_settings.num_threads", 5,
                "expected a non-negative integer, got '-1'");
   expect_error(env + "seed: -2\n", "env_settings.seed", 5, "expected an integer >= -1, got '-2'");
+  expect_error(env + "stagger_steps: -5\n", "env_settings.stagger_steps", 5,
+               "expected a non-negative integer, got '-5'");
   expect_error("behaviors:\n  CartPole:\nenv_settings:\n  env_id: \"\"\n", "env_settings.env_id", 4,
                "must not be empty");
   expect_error(cartpole_with("") + "checkpoint_settings:\n  run_id: a/b\n",

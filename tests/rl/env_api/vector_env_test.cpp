@@ -206,6 +206,47 @@ TEST_F(VectorEnvTest, ParametersReachTheEnvsAtTheirNextReset) {
   EXPECT_EQ(b.observations[0][5], start_speed[1]);
 }
 
+// stagger: instance i plays i * span / n still steps, so the instances are spread over their
+// episodes; the episodes it played into are not reported, the ones after them are
+TEST_F(VectorEnvTest, StaggerSpreadsTheInstancesOverTheirEpisodes) {
+  // 60 frames, a decision every 3: 20 steps per episode; vector [12] is frame / 60
+  const Parameters p = {{"episode_frames", 60.f}, {"num_hiders", 1.f}, {"num_seekers", 1.f}};
+  for (int span : {20, 50}) {
+    VectorEnv env("HideAndSeek", 4, 7, p);
+    env.reset();
+    env.stagger(span);
+    BehaviorBuffers& hiders = env.buffers(0);
+    const int slots = hiders.spec.agent_slots;
+    const int vector = hiders.spec.observations[0].size();
+    std::vector<int> into(4);  // steps into the running episode
+    for (int i = 0; i < 4; ++i) {
+      const int r = i * slots;
+      into[i] = (i * span / 4) % 20;
+      EXPECT_NEAR(hiders.observations[0][size_t(r) * vector + 12], into[i] * 3 / 60.0f, 1e-6f)
+          << "span " << span << ", instance " << i;
+      EXPECT_EQ(hiders.step_type[r], into[i] == 0 ? StepType::kFirst : StepType::kMid);
+      EXPECT_EQ(hiders.reward[r], 0.0f);  // the warm-up's rewards are nobody's
+    }
+    EXPECT_TRUE(env.take_finished_episodes().empty());
+    // play on: every instance's first episode from here is partial unless it began here
+    std::mt19937_64 rng(3);
+    std::vector<int> reported(4, 0);
+    for (int step = 0; step < 41; ++step) {
+      for (int b = 0; b < env.num_behaviors(); ++b) random_actions(env.buffers(b), rng);
+      env.step();
+      for (const FinishedEpisode& f : env.take_finished_episodes()) ++reported[f.env_index];
+    }
+    // 41 steps: the episode running ends at step 20 - into (reported only when it began at the
+    // stagger, into 0), then a reset step and 20 steps per whole episode
+    for (int i = 0; i < 4; ++i) {
+      const int first_end = 20 - into[i];
+      const int after = (41 - first_end) / 21;
+      EXPECT_EQ(reported[i], after + (into[i] == 0 ? 1 : 0))
+          << "span " << span << ", instance " << i;
+    }
+  }
+}
+
 TEST_F(VectorEnvTest, RejectsBadConstruction) {
   EXPECT_THROW(VectorEnv("CartPole", 0, 1), std::invalid_argument);
   EXPECT_THROW(VectorEnv("NoSuchEnv", 2, 1), std::invalid_argument);
