@@ -859,10 +859,15 @@ void HideAndSeek::write_objects(float* out, const Agent& a) const {
     o[1] = clip1(delta.y() * scale);
     o[2] = clip1(delta.dot(fwd) * scale);
   };
+  // each agent's own first: entry k is prop (k + slot) mod n of the level's n (and so for the
+  // openings), so teammates that learned to take the first prop to the first opening take
+  // different ones
   const int num_props = std::min(props_->size(), kMaxProps);
-  for (int i = 0; i < num_props; ++i) {
-    const drone::Prop& prop = (*props_)[i];
-    float* o = out + i * kPropFloats;
+  const int num_open = arena_->num_open();
+  const auto own_first = [&](int k, int n) { return k < n ? (k + a.slot) % n : k; };
+  for (int k = 0; k < num_props; ++k) {
+    const drone::Prop& prop = (*props_)[own_first(k, num_props)];
+    float* o = out + k * kPropFloats;
     relative(prop.position(), o);
     o[3] = 1.0f;
     o[4] = prop.locked() ? 1.0f : 0.0f;
@@ -878,11 +883,12 @@ void HideAndSeek::write_objects(float* out, const Agent& a) const {
   }
   float* openings = out + kMaxProps * kPropFloats;
   for (int k = 0; k < kNumOpenings; ++k) {
-    const drone::Opening& opening = arena_->openings()[k];
+    const int index = own_first(k, num_open);
+    const drone::Opening& opening = arena_->openings()[index];
     float* o = openings + k * kOpeningFloats;
     relative(opening.centre, o);
     o[3] = opening.open ? 1.0f : 0.0f;
-    o[4] = closed_now_[k] ? 1.0f : 0.0f;
+    o[4] = closed_now_[index] ? 1.0f : 0.0f;
   }
   float* mate = openings + kNumOpenings * kOpeningFloats;  // [4]
   float best = INFINITY;

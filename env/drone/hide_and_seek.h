@@ -89,12 +89,16 @@
 //    [-1, 1].
 //  "objects" [60] (`object_obs` 1, the default; 0: all zeros, the paper's observations): what
 //    OpenAI's agents observe of the world's entities, in the agent's own frame (right, up,
-//    forward), positions / (2 half_size): per prop slot i < 4 (8 floats: prop i of the level, 0
-//    when it has none): relative centre [3], present, locked, held by another drone, and sin and
-//    cos of twice the angle from the agent's forward to the panel's normal (a panel looks the same
-//    turned by 180 degrees); per opening o < 4 (5 floats, in arena.h's order): relative centre
-//    [3], open at the level, closed now; the nearest teammate: relative centre [3] and present;
-//    the agent's slot one-hot [4] (lets teammates split the work: nothing else tells them apart).
+//    forward), positions / (2 half_size): per prop entry k < 4 (8 floats; 0 past the level's
+//    props): relative centre [3], present, locked, held by another drone, and sin and cos of twice
+//    the angle from the agent's forward to the panel's normal (a panel looks the same turned by
+//    180 degrees); per opening entry k < 4 (5 floats): relative centre [3], open at the level,
+//    closed now; the nearest teammate: relative centre [3] and present; the agent's slot one-hot
+//    [4]. Each agent's own first: with n props (and n open openings, n = level), entry k < n is
+//    prop (and opening) (k + slot) mod n, in arena.h's order, entries from n on are the rest in
+//    order; so hiders that learned at level 1 to take the first prop to the first opening take
+//    different props to different openings at level 2 (with one list for all they went for the
+//    same prop).
 //    The rays and grids see panels and holes only as "prop" and "wall" hits around the agent;
 //    with these the hiders learn to bring a prop to a doorway far sooner (docs/results).
 //  "rays" [119]: RaySensor with its defaults (17 rays over 360 degrees, 20 m, sphere radius 0.3).

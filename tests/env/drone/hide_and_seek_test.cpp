@@ -492,6 +492,26 @@ TEST(HideAndSeekTest, ObjectsObservationPlacesPropsOpeningsAndTheTeammate) {
   o = objects(0);
   EXPECT_EQ(o[4], 1.0f);
   EXPECT_EQ(o[kOpenings + 4], 1.0f);
+  // level 2: each hider's lists start with its own prop and opening (hider h: prop and opening h)
+  {
+    Game two({{"level", 2.f}, {"num_hiders", 2.f}, {"num_seekers", 1.f}});
+    two.idle_step();
+    for (int h = 0; h < 2; ++h) {
+      const auto& d = *two.env.agent(HideAndSeek::kHider, h).drone;
+      const float* o = two.hiders().observations[1].data() + h * HideAndSeek::kObjectsSize;
+      for (int k = 0; k < 4; ++k) {
+        const int own = k < 2 ? (k + h) % 2 : k;
+        const btVector3 to_opening = two.env.arena().openings()[own].centre - d.position();
+        EXPECT_NEAR(o[kOpenings + k * HideAndSeek::kOpeningFloats + 2],
+                    to_opening.dot(d.forward()) * kScale, 1e-3f)
+            << "hider " << h << ", entry " << k;
+        if (k >= 2) continue;
+        const btVector3 to_prop = two.env.props()[own].position() - d.position();
+        EXPECT_NEAR(o[k * HideAndSeek::kPropFloats], to_prop.dot(d.right()) * kScale, 1e-3f)
+            << "hider " << h << ", prop entry " << k;
+      }
+    }
+  }
   // object_obs 0: the paper's observations, nothing in "objects"
   Game off({{"level", 2.f}, {"object_obs", 0.f}});
   off.idle_step();
