@@ -22,6 +22,8 @@ strategies (HideAndSeek: running_and_chasing, shelter) get their episode metrics
 metrics/episodes.csv and the step each strategy emerged at in training_status.json. Prints a
 summary line per behavior every summary_freq steps, a progress bar with the time left (on a
 terminal), and at the end a table of steps, rewards, ELO, lessons and strategies.
+env_settings.stagger_steps S (default 0) spreads the env instances over their episodes: after
+every start and checkpoint instance i first plays i x S / num_envs still steps, not learned from.
 
 Options:
   --run-id ID            run folder name (default: checkpoint_settings.run_id)
