@@ -877,8 +877,8 @@ void HideAndSeek::write_objects(float* out, const Agent& a) const {
     const float c = normal.dot(fwd), sn = normal.dot(right);
     const float norm = c * c + sn * sn;
     if (norm > 1e-6f) {
-      o[6] = 2 * sn * c / norm;
-      o[7] = (c * c - sn * sn) / norm;
+      o[6] = clip1(2 * sn * c / norm);  // rounding can take them a hair past 1
+      o[7] = clip1((c * c - sn * sn) / norm);
     }
   }
   float* openings = out + kMaxProps * kPropFloats;
