@@ -54,6 +54,20 @@ struct BehaviorBuffers {
     continuous_actions.assign(size_t(rows) * behavior.action.continuous_size, 0.f);
     discrete_actions.assign(size_t(rows) * behavior.action.num_branches(), 0);
   }
+
+  // Doing nothing, for row r: continuous actions 0 and, on each branch, the first option the mask
+  // allows.
+  void write_still_action(int r) {
+    const ActionSpec& a = spec.action;
+    const int m = a.mask_size(), c = a.continuous_size, k = a.num_branches();
+    for (int j = 0; j < c; ++j) continuous_actions[size_t(r) * c + j] = 0.0f;
+    for (int j = 0, offset = 0; j < k; offset += a.discrete_branches[j++]) {
+      const uint8_t* allowed = action_mask.data() + size_t(r) * m + offset;
+      int choice = 0;
+      while (choice < a.discrete_branches[j] - 1 && !allowed[choice]) ++choice;
+      discrete_actions[size_t(r) * k + j] = choice;
+    }
+  }
 };
 
 // The rows of one env instance inside a BehaviorBuffers: what an environment reads and writes.

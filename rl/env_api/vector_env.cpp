@@ -68,22 +68,10 @@ void VectorEnv::start_episodes() {
 }
 
 void VectorEnv::write_still_actions(int i) {
-  for (auto& v : views_[i]) {
-    const ActionSpec& a = v.spec().action;
-    for (int s = 0; s < v.slots(); ++s) {
-      if (!needs_action(v.step_type(s))) continue;
-      std::fill(v.continuous_action_out(s), v.continuous_action_out(s) + a.continuous_size, 0.f);
-      const uint8_t* mask = a.mask_size() > 0 ? v.action_mask(s) : nullptr;
-      int32_t* out = v.discrete_action_out(s);
-      for (int j = 0, offset = 0; j < a.num_branches(); offset += a.discrete_branches[j++]) {
-        out[j] = 0;
-        for (int o = 0; mask != nullptr && o < a.discrete_branches[j]; ++o)
-          if (mask[offset + o]) {
-            out[j] = o;
-            break;
-          }
-      }
-    }
+  for (BehaviorBuffers& b : buffers_) {
+    const int first = i * b.spec.agent_slots;
+    for (int r = first; r < first + b.spec.agent_slots; ++r)
+      if (needs_action(b.step_type[r])) b.write_still_action(r);
   }
 }
 
@@ -91,7 +79,6 @@ void VectorEnv::stagger(int span) {
   if (span <= 0) return;
   pool_.parallel_for(num_envs(), [this, span](int i) {
     const int64_t steps = int64_t(i) * span / num_envs();
-    if (steps == 0) return;
     for (int64_t k = 0; k < steps; ++k) {
       write_still_actions(i);
       for (auto& v : views_[i]) v.clear_step();

@@ -73,21 +73,8 @@ void RandomPolicy::act(BehaviorBuffers& buf, const std::vector<uint8_t>* only) {
 }
 
 void StillPolicy::act(BehaviorBuffers& buf, const std::vector<uint8_t>* only) {
-  const auto& a = buf.spec.action;
-  const int m = a.mask_size(), c = a.continuous_size, k = a.num_branches();
-  for (int r = 0; r < buf.rows; ++r) {
-    if (!needs_action(buf.step_type[r]) || (only && !(*only)[r])) continue;
-    for (int j = 0; j < c; ++j) buf.continuous_actions[size_t(r) * c + j] = 0.0f;
-    int offset = 0;
-    for (int j = 0; j < k; ++j) {
-      const int n = a.discrete_branches[j];
-      const uint8_t* allowed = buf.action_mask.data() + size_t(r) * m + offset;
-      int choice = 0;
-      while (choice < n - 1 && !allowed[choice]) ++choice;
-      buf.discrete_actions[size_t(r) * k + j] = choice;
-      offset += n;
-    }
-  }
+  for (int r = 0; r < buf.rows; ++r)
+    if (needs_action(buf.step_type[r]) && !(only && !(*only)[r])) buf.write_still_action(r);
 }
 
 void ScriptedPolicy::act(BehaviorBuffers& /*buf*/, const std::vector<uint8_t>* rows) {

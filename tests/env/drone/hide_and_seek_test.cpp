@@ -37,12 +37,14 @@ struct Game {
       }
     }
   }
-  // one decision with every action 0; returns the first hider's reward
-  float idle_step() {
-    set_all(0.0f);
+  // one decision with every action 0 but `lock` on the lock branch; returns the first hider's
+  // reward
+  float lock_step(int lock) {
+    set_all(0.0f, 0, lock);
     harness.step();
     return hiders().reward[0];
   }
+  float idle_step() { return lock_step(0); }
   // scripted actions for one team
   void script(Team team) {
     StepView views;
@@ -557,10 +559,9 @@ TEST(HideAndSeekTest, HeldCloseRewardIsTakenBackWhenTheDoorwayOpens) {
   auto& props = g.env.props();
   float total = 0.0f;
   auto step = [&](int lock) {
-    g.set_all(0.0f, 0, lock);
-    g.harness.step();
-    total += g.hiders().reward[0];
-    return g.hiders().reward[0];
+    const float r = g.lock_step(lock);
+    total += r;
+    return r;
   };
   EXPECT_NEAR(step(1), 0.5f, 1e-6f);   // closed: paid
   EXPECT_EQ(step(0), 0.0f);            // still closed: nothing more
@@ -584,10 +585,9 @@ TEST(HideAndSeekTest, UnlockCostIsTakenPerUnlock) {
   place_prop_in_doorway_and_hider_before_it(g);
   float total = 0.0f;
   auto step = [&](int lock) {
-    g.set_all(0.0f, 0, lock);
-    g.harness.step();
-    total += g.hiders().reward[0];
-    return g.hiders().reward[0];
+    const float r = g.lock_step(lock);
+    total += r;
+    return r;
   };
   EXPECT_NEAR(step(1), 0.5f, 1e-6f);
   EXPECT_NEAR(step(2), -0.55f, 1e-6f);  // opened by an unlock: taken back, and the cost
