@@ -78,6 +78,8 @@ struct HideAndSeek::Settings {
   float prop_start_spread = 0.0f;     // chance that an episode's offset is uniform in [0, offset]
   bool prop_cues = true;  // vector [18, 20) and the hiders' masks say what prop actions would do
   bool object_obs = true;  // the "objects" observation (else zeros)
+  bool sensor_obs = true;  // the rays and both grids (else zeros)
+  bool latched_grab = false;  // grab option 0 keeps a held prop; only a lock lets it go
 };
 
 namespace {
@@ -150,6 +152,8 @@ HideAndSeek::HideAndSeek()
       {"prop_start_spread", 0.f},
       {"prop_cues", 1.f},
       {"object_obs", 1.f},
+      {"sensor_obs", 1.f},
+      {"latched_grab", 0.f},
   };
   // SPEC section 8: chasing is dated in seeker steps, shelter in hider steps and only counts at
   // level 2 and above (level 1's single doorway is the curriculum's first lesson) with the props
@@ -264,6 +268,8 @@ void HideAndSeek::build_episode() {
   s.prop_start_spread = drone::float_parameter(*this, "prop_start_spread", 0.0f, 1.0f);
   s.prop_cues = drone::int_parameter(*this, "prop_cues", 0, 1) == 1;
   s.object_obs = drone::int_parameter(*this, "object_obs", 0, 1) == 1;
+  s.sensor_obs = drone::int_parameter(*this, "sensor_obs", 0, 1) == 1;
+  s.latched_grab = drone::int_parameter(*this, "latched_grab", 0, 1) == 1;
   // -1: the level's own (0 at levels 1 and 2, 0.5 at 3 and 4)
   const float outside = parameter("hider_outside_chance");
   if (outside != -1.0f && !(outside >= 0.0f && outside <= 1.0f))
@@ -472,7 +478,7 @@ bool HideAndSeek::apply_grab_and_lock(Agent& a, const int* discrete) {
   if (discrete[kGrabBranch] == 1) {
     const int got = props_->grab(d);
     if (got >= 0 && got != before) record_event("grab", &d.body(), (*props_)[got].body);
-  } else if (before >= 0) {
+  } else if (before >= 0 && !settings_->latched_grab) {
     props_->release(d);
     record_event("release", &d.body(), (*props_)[before].body);
   }
@@ -837,10 +843,16 @@ void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
   v[18] = s.prop_cues && props_->lockable(d) >= 0 ? 1.0f : 0.0f;
   v[19] = s.prop_cues && props_->unlockable(d, kHider) >= 0 ? 1.0f : 0.0f;
   write_objects(view.observation(a.slot, 1), a);
-  rays_.observe(shapes_, d.body(), view.observation(a.slot, 2));
+  float* outs[3] = {view.observation(a.slot, 2), view.observation(a.slot, 3),
+                    view.observation(a.slot, 4)};
+  if (!s.sensor_obs) {
+    const int sizes[3] = {rays_.size(), spatial_grid_.size(), frontal_grid_.size()};
+    for (int k = 0; k < 3; ++k) std::fill(outs[k], outs[k] + sizes[k], 0.0f);
+    return;
+  }
+  rays_.observe(shapes_, d.body(), outs[0]);
   const drone::GridSensor* grids[2] = {&spatial_grid_, &frontal_grid_};
-  float* outs[2] = {view.observation(a.slot, 3), view.observation(a.slot, 4)};
-  drone::GridSensor::observe_many(grids, outs, 2, points_, points_.body_index(d.body()),
+  drone::GridSensor::observe_many(grids, outs + 1, 2, points_, points_.body_index(d.body()),
                                   d.body().getWorldTransform());
 }
 
@@ -909,6 +921,7 @@ void HideAndSeek::write_objects(float* out, const Agent& a) const {
 void HideAndSeek::update_sensor_scene() {
   for (int o = 0; o < kNumOpenings; ++o)
     closed_now_[o] = settings_->object_obs && opening_closed(o);
+  if (!settings_->sensor_obs) return;  // nobody reads them
   points_.update(*world_);
   shapes_.capture(world_->world());
 }

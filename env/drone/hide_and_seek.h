@@ -12,7 +12,10 @@
 // hiders locked is; seekers cannot grab or lock (only option 0 of both branches). The env ignores a
 // forbidden option (for hiders it would fail anyway). Grab and lock act once, at the start of a
 // decision (PropSet rules: reach 1.5 m, a 60-degree front cone; hold keeps a held prop; a hider
-// that locks the prop it holds lets go of it; only the locking team may unlock).
+// that locks the prop it holds lets go of it; only the locking team may unlock). With
+// `latched_grab` 1 grab option 0 keeps a held prop instead of releasing it, so a hold lasts until
+// a lock lets it go (default 0: held only while chosen, the SPEC's). Policies that choose hold and
+// release by turns drop the prop every other decision and take it again at a drifted pose.
 //
 // Time: physics at 50 Hz; an agent decides every `decision_period` (3) frames and its thrust is
 // repeated for those frames. An episode lasts at most `episode_frames` (3072) frames; the first
@@ -101,7 +104,8 @@
 //    same prop).
 //    The rays and grids see panels and holes only as "prop" and "wall" hits around the agent;
 //    with these the hiders learn to bring a prop to a doorway far sooner (docs/results).
-//  "rays" [119]: RaySensor with its defaults (17 rays over 360 degrees, 20 m, sphere radius 0.3).
+//  "rays" [119]: RaySensor with its defaults (17 rays over 360 degrees, 20 m, sphere radius 0.3);
+//    it and both grids are zeros with `sensor_obs` 0 (default 1), and are then not computed.
 //  "spatial_grid" [6, 12, 5] and "frontal_grid" [9, 8, 5]: GridSensor's spatial() and frontal()
 //    presets (grid_sensor.h) over the surface points of every body (walls at 1 m, bodies at 0.3 m;
 //    the floor and ceiling are not detectable: the vector carries the height), the agent's own

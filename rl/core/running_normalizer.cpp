@@ -27,12 +27,26 @@ void RunningNormalizer::update(const float* data, int64_t rows) {
   merge(double(rows), bmean, bvar);
 }
 
+void RunningNormalizer::set_passthrough(const std::vector<uint8_t>& columns) {
+  if (static_cast<int>(columns.size()) != size())
+    throw std::invalid_argument("RunningNormalizer: passthrough has " +
+                                std::to_string(columns.size()) + " columns, expected " +
+                                std::to_string(size()));
+  passthrough_ = columns;
+  for (int i = 0; i < size(); ++i) {
+    if (!passthrough_[i]) continue;
+    mean_[i] = 0.0;
+    var_[i] = 1.0;
+  }
+}
+
 void RunningNormalizer::merge(double rows, const std::vector<double>& bmean,
                               const std::vector<double>& bvar) {
   if (rows <= 0) return;
   const int n = size();
   const double total = count_ + rows;
   for (int i = 0; i < n; ++i) {
+    if (!passthrough_.empty() && passthrough_[i]) continue;
     if (count_ == 0) {
       mean_[i] = bmean[i];
       var_[i] = bvar[i];

@@ -21,6 +21,11 @@ class RunningNormalizer {
   const std::vector<double>& mean() const { return mean_; }      // [size]
   const std::vector<double>& variance() const { return var_; }   // [size]
 
+  // Columns (1 = pass) that keep mean 0 and variance 1 whatever is folded in, so that normalize
+  // leaves them as they are: the grid observations, as ML-Agents normalizes only vector
+  // observations. [size]; resets their statistics. Not serialized: the kept 0 and 1 are.
+  void set_passthrough(const std::vector<uint8_t>& columns);
+
   // Folds `rows` observations (row-major [rows, size]) into the statistics.
   void update(const float* data, int64_t rows);
   // Folds in the statistics of `rows` observations seen elsewhere (their mean and population
@@ -44,6 +49,7 @@ class RunningNormalizer {
   double count_ = 0;          // observations seen
   std::vector<double> mean_;  // [size]
   std::vector<double> var_;   // [size] population variance
+  std::vector<uint8_t> passthrough_;  // [size] or empty (none)
 };
 
 }  // namespace rlt

@@ -18,6 +18,15 @@ int total_obs_size(const BehaviorSpec& spec) {
   for (const auto& o : spec.observations) n += o.size();
   return n;
 }
+// [total_obs_size] 1 for the columns of grid observations: normalization leaves them as they are,
+// as ML-Agents normalizes vector observations only (its grids go to a CNN unnormalized). Sparse
+// 0-1 cells that are mostly 0 would otherwise become rare spikes of up to kClip.
+std::vector<uint8_t> grid_columns(const BehaviorSpec& spec) {
+  std::vector<uint8_t> out;
+  for (const auto& o : spec.observations)
+    out.insert(out.end(), o.size(), o.kind == ObservationKind::kGrid ? 1 : 0);
+  return out;
+}
 }  // namespace
 
 OnPolicyTrainer::OnPolicyTrainer(const BehaviorSpec& spec, const BehaviorConfig& config, int rows,
@@ -39,6 +48,7 @@ OnPolicyTrainer::OnPolicyTrainer(const BehaviorSpec& spec, const BehaviorConfig&
   shape.shared_critic = config.hyperparameters.shared_critic;
   shape.with_critic = with_critic;
   net_ = PolicyNetwork(shape);
+  normalizer_.set_passthrough(grid_columns(spec));
 
   pending_.assign(rows, 0);
   rewards_.resize(rows);
@@ -265,6 +275,7 @@ void OnPolicyTrainer::load_weights(torch::serialize::InputArchive& a) {
     throw std::runtime_error("checkpoint normalizer of behavior " + spec_.name + " has size " +
                              std::to_string(normalizer_.size()) + ", expected " +
                              std::to_string(obs_size_));
+  normalizer_.set_passthrough(grid_columns(spec_));
   actor_stale_ = true;
 }
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -575,6 +576,62 @@ TEST(HideAndSeekTest, HeldCloseRewardIsTakenBackWhenTheDoorwayOpens) {
 }
 
 // unlock_cost: every unlock costs the hider that made it, so churning is no longer free
+// latched_grab 1: a hold lasts through decisions whose grab choice is 0, until a lock lets the
+// prop go; with 0 (the SPEC's) choosing 0 releases it
+TEST(HideAndSeekTest, LatchedGrabKeepsTheHoldUntilALock) {
+  for (const float latched : {0.f, 1.f}) {
+    SCOPED_TRACE(latched);
+    Game g({{"level", 1.f}, {"num_hiders", 1.f}, {"num_seekers", 1.f}, {"latched_grab", latched}});
+    place_prop_in_doorway_and_hider_before_it(g);
+    auto& hider = *g.env.agent(HideAndSeek::kHider, 0).drone;
+    g.set_all(0.0f, 1, 0);
+    g.harness.step();
+    ASSERT_EQ(g.env.props().held_by(hider), 0);
+    g.set_all(0.0f, 0, 0);
+    g.harness.step();
+    EXPECT_EQ(g.env.props().held_by(hider), latched == 1.f ? 0 : -1);
+    g.set_all(0.0f, 1, 0);
+    g.harness.step();
+    g.set_all(0.0f, 0, 1);  // a lock lets go in both modes
+    g.harness.step();
+    EXPECT_TRUE(g.env.props()[0].locked());
+    EXPECT_EQ(g.env.props().held_by(hider), -1);
+    g.set_all(0.0f, 0, 2);  // and an unlock does not take hold again
+    g.harness.step();
+    EXPECT_FALSE(g.env.props()[0].locked());
+    EXPECT_EQ(g.env.props().held_by(hider), -1);
+  }
+}
+
+// sensor_obs 0: the rays and both grids are zeros; the vector and objects are unchanged
+TEST(HideAndSeekTest, WithoutSensorsRaysAndGridsAreZeros) {
+  Parameters p{{"level", 2.f}, {"num_hiders", 2.f}, {"num_seekers", 2.f}};
+  Game with(p);
+  p["sensor_obs"] = 0.f;
+  Game without(p);
+  for (int step = 0; step < 3; ++step) {
+    for (Game* g : {&with, &without}) {
+      g->set_all(0.5f);
+      g->harness.step();
+    }
+  }
+  for (auto team : {HideAndSeek::kHider, HideAndSeek::kSeeker}) {
+    auto& a = with.harness.buffers(team);
+    auto& b = without.harness.buffers(team);
+    for (int o = 0; o < 5; ++o) {
+      SCOPED_TRACE(o);
+      const auto& x = a.observations[o];
+      const auto& y = b.observations[o];
+      if (o < 2) {
+        EXPECT_EQ(x, y);  // the same episode, seen through the vector and objects
+      } else {
+        EXPECT_GT(std::accumulate(x.begin(), x.end(), 0.0), 0.0);
+        EXPECT_TRUE(std::all_of(y.begin(), y.end(), [](float v) { return v == 0.0f; }));
+      }
+    }
+  }
+}
+
 TEST(HideAndSeekTest, UnlockCostIsTakenPerUnlock) {
   Game g({{"level", 1.f},
           {"num_hiders", 1.f},

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 namespace rlt {
@@ -89,6 +90,27 @@ TEST(RunningNormalizerTest, NormalizeStandardizesAndClampsAtFive) {
   EXPECT_EQ(x[3], -5.f);
   EXPECT_NEAR(x[4], 4.9 * 2.0 / s0, 1e-5);
   EXPECT_EQ(x[5], -5.f);
+}
+
+// passthrough columns keep mean 0 and variance 1 (normalize leaves them), the others are as
+// without; the kept values survive serialization
+TEST(RunningNormalizerTest, PassthroughColumnsAreLeftAsTheyAre) {
+  std::mt19937_64 rng(5);
+  const auto data = random_rows(200, rng);
+  RunningNormalizer some(kSize);
+  some.set_passthrough({0, 1, 0});
+  some.update(data.data(), 100);
+  some.merge(100, std::vector<double>(kSize, 7.0), std::vector<double>(kSize, 2.0));
+  EXPECT_EQ(some.mean()[1], 0.0);
+  EXPECT_EQ(some.variance()[1], 1.0);
+  EXPECT_NE(some.mean()[0], 0.0);
+  std::vector<float> row{0.25f, -3.5f, 3.0f};
+  some.normalize(row.data(), 1);
+  EXPECT_NEAR(row[1], -3.5f, 1e-6f);
+  const RunningNormalizer copy = RunningNormalizer::deserialize(some.serialize());
+  EXPECT_EQ(copy.mean()[1], 0.0);
+  EXPECT_EQ(copy.variance()[1], 1.0);
+  EXPECT_THROW(some.set_passthrough({1, 0}), std::invalid_argument);
 }
 
 TEST(RunningNormalizerTest, SerializeRoundTripIsExact) {

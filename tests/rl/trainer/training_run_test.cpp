@@ -473,6 +473,35 @@ TEST_F(TrainingRunTest, InitializeFromStartsWithTheOtherRunsWeightsAndFreshCount
   EXPECT_THROW(TrainingRun(small_config("Pendulum", "Pendulum", 1500, 1000, true), opt), std::runtime_error);
 }
 
+// normalize: true standardizes vector observations only; grid columns keep mean 0 and variance 1,
+// so they reach the network as they are (ML-Agents normalizes vector observations only)
+TEST_F(TrainingRunTest, NormalizationLeavesGridObservationsAsTheyAre) {
+  std::ostringstream y;
+  for (const char* b : {"Hider", "Seeker"})
+    y << (b[0] == 'H' ? "behaviors:\n" : "") << "  " << b << ":\n    trainer_type: ppo\n"
+      << "    hyperparameters: {batch_size: 64, buffer_size: 128, num_epoch: 1}\n"
+      << "    network_settings: {hidden_units: 16, num_layers: 1, normalize: true}\n"
+      << "    time_horizon: 32\n    max_steps: 200\n    summary_freq: 1000\n";
+  y << "env_settings: {env_id: HideAndSeek, num_envs: 1, seed: 5, params: {level: 2}}\n";
+  TrainingRun run(load_run_config_from_string(y.str(), "grids.yaml"), options("grids"));
+  run.train();
+  const RunningNormalizer& n = *run.trainer(0).normalizer();
+  ASSERT_GT(n.count(), 0.0);
+  const auto& obs = run.trainer(0).spec().observations;
+  int column = 0, vector_moved = 0;
+  for (const auto& o : obs) {
+    for (int i = 0; i < o.size(); ++i, ++column) {
+      if (o.kind == ObservationKind::kGrid) {
+        ASSERT_EQ(n.mean()[column], 0.0) << o.name << " " << i;
+        ASSERT_EQ(n.variance()[column], 1.0) << o.name << " " << i;
+      } else {
+        vector_moved += n.mean()[column] != 0.0;
+      }
+    }
+  }
+  EXPECT_GT(vector_moved, 10);
+}
+
 TEST_F(TrainingRunTest, UnknownBehaviorOrParameterIsAnErrorBeforeWriting) {
   EXPECT_THROW(TrainingRun(small_config("CartPole", "Cartpole", 600, 1000), options("bad")), std::invalid_argument);
   auto config = small_config("CartPole", "CartPole", 600, 1000);
