@@ -35,7 +35,8 @@ Options:
   --seed S               base seed; instance i uses S + i (default: env_settings.seed, else 0)
   --max-steps N          steps per behavior, overriding max_steps
   --param NAME=VALUE     set an env parameter over env_settings.params (repeat; not one that
-                         environment_parameters controls), e.g. --param unseen_reward=-0.001
+                         environment_parameters sets, itself or in a lesson's
+                         other_parameters), e.g. --param unseen_reward=-0.001
   --threads T            environment threads (default: all cores); the learner's matrix products
                          use them too when the network is large (first layer >= 65536 weights)
   --nproc N              train with N data-parallel ranks on this machine (see below)

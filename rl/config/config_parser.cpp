@@ -556,6 +556,7 @@ void Parser::parse_network_settings(const Val& value, NetworkSettings* network) 
       value,
       {
           {"normalize", [&](const Val& v) { network->normalize = read_bool(v); }},
+          {"normalize_grids", [&](const Val& v) { network->normalize_grids = read_bool(v); }},
           {"hidden_units",
            [&](const Val& v) { network->hidden_units = read_int32(v, kPositiveInt); }},
           {"num_layers", [&](const Val& v) { network->num_layers = read_int32(v, kPositiveInt); }},
@@ -772,7 +773,9 @@ void Parser::parse_checkpoint_settings(const Val& value, CheckpointSettings* che
 void Parser::parse_environment_parameters(
     const Val& value, const RunConfig& config,
     std::map<std::string, EnvironmentParameterSettings>* parameters) const {
+  std::map<std::string, int> lines;  // of each entry, for the errors below
   for_each_entry(value, [&](const std::string& name, const Val& v) {
+    lines[name] = v.line;
     EnvironmentParameterSettings& parameter = (*parameters)[name];
     if (v.node.IsScalar()) {
       parameter.sampler = SamplerSettings::constant(read_float(v, kAnyReal));
@@ -798,6 +801,22 @@ void Parser::parse_environment_parameters(
       parameter.sampler = parse_sampler(v);
     }
   });
+  // a parameter that some curriculum's lessons set is set there only
+  std::map<std::string, std::string> set_by;  // parameter -> the curriculum setting it
+  for (const auto& [name, parameter] : *parameters) {
+    if (!parameter.is_curriculum()) continue;
+    for (const auto& [other, sampler] : parameter.curriculum[0].other_parameters) {
+      std::string clash;
+      if (parameters->count(other)) clash = "it has its own entry";
+      if (other == name) clash = "it is the curriculum's own parameter (give it as the value)";
+      if (set_by.count(other)) clash = "the lessons of " + set_by[other] + " set it too";
+      if (!clash.empty()) {
+        fail(join_path(value.path, name), lines[name],
+             "the lessons of " + name + " set " + other + " (other_parameters), but " + clash);
+      }
+      set_by[other] = name;
+    }
+  }
 }
 
 SamplerSettings Parser::parse_sampler(const Val& value) const {
@@ -911,6 +930,14 @@ std::vector<Lesson> Parser::parse_curriculum(const Val& value, const RunConfig& 
                            lesson.value = parse_sampler(v);
                            has_value = true;
                          }},
+                        {"other_parameters",
+                         [&](const Val& v) {
+                           if (!v.node.IsMap())
+                             fail_expected(v, "a mapping of env parameter names to values");
+                           for_each_entry(v, [&](const std::string& key, const Val& x) {
+                             lesson.other_parameters[key] = parse_sampler(x);
+                           });
+                         }},
                         {"completion_criteria",
                          [&](const Val& v) {
                            if (!v.node.IsNull()) {
@@ -925,6 +952,18 @@ std::vector<Lesson> Parser::parse_curriculum(const Val& value, const RunConfig& 
     }
     lessons.push_back(std::move(lesson));
     locations.push_back(entry);
+  }
+  const auto names = [](const Lesson& l) {
+    std::string out;
+    for (const auto& [key, sampler] : l.other_parameters) out += (out.empty() ? "" : ", ") + key;
+    return out.empty() ? std::string("none") : out;
+  };
+  for (size_t i = 1; i < lessons.size(); ++i) {
+    if (names(lessons[i]) != names(lessons[0])) {
+      fail(join_path(locations[i].path, "other_parameters"), locations[i].line,
+           "lesson '" + lessons[i].name + "' sets " + names(lessons[i]) + ", the first lesson sets " +
+               names(lessons[0]) + ": every lesson must set the same other parameters");
+    }
   }
   for (size_t i = 0; i + 1 < lessons.size(); ++i) {
     if (!lessons[i].completion_criteria) {
@@ -1127,6 +1166,7 @@ void emit_behavior(YAML::Emitter& out, const BehaviorConfig& config) {
 
   out << YAML::Key << "network_settings" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "normalize" << YAML::Value << network.normalize;
+  out << YAML::Key << "normalize_grids" << YAML::Value << network.normalize_grids;
   out << YAML::Key << "hidden_units" << YAML::Value << network.hidden_units;
   out << YAML::Key << "num_layers" << YAML::Value << network.num_layers;
   out << YAML::Key << "vis_encode_type" << YAML::Value << network.vis_encode_type;
@@ -1263,6 +1303,16 @@ void emit_environment_parameters(
       emit_string(out, lesson.name);
       out << YAML::Key << "value" << YAML::Value;
       emit_sampler(out, lesson.value);
+      if (!lesson.other_parameters.empty()) {
+        out << YAML::Key << "other_parameters" << YAML::Value << YAML::BeginMap;
+        for (const auto& [key, sampler] : lesson.other_parameters) {
+          out << YAML::Key;
+          emit_string(out, key);
+          out << YAML::Value;
+          emit_sampler(out, sampler);
+        }
+        out << YAML::EndMap;
+      }
       if (lesson.completion_criteria) {
         const CompletionCriteria& criteria = *lesson.completion_criteria;
         out << YAML::Key << "completion_criteria" << YAML::Value << YAML::BeginMap;

@@ -28,7 +28,10 @@
 // - environment_parameters: each entry is a constant (`gravity: 9.8`), a sampler
 //   (`{sampler_type: uniform|gaussian|multirangeuniform|constant, sampler_parameters: {...}}`) or
 //   a curriculum (`{curriculum: [{name, value, completion_criteria}, ...]}`, a lesson's value a
-//   constant or a sampler), as in ML-Agents. Checked: sampler_parameters keys per sampler,
+//   constant or a sampler), as in ML-Agents; our extension, a lesson's `other_parameters`
+//   (`{name: value or sampler, ...}`), sets further parameters with it: every lesson of the
+//   curriculum names the same ones, and neither an entry of its own nor another curriculum's
+//   lessons may set them. Checked: sampler_parameters keys per sampler,
 //   min_value <= max_value, st_dev >= 0, intervals [min, max] with min <= max, non-empty
 //   curricula, a completion_criteria on every lesson but the last (one on the last lesson is
 //   kept and never used), completion_criteria.behavior one of `behaviors` (any non-empty name

@@ -37,6 +37,9 @@ enum class Activation { kSwish, kTanh, kRelu };
 
 struct NetworkSettings {
   bool normalize = false;    // running mean/variance normalization of vector observations
+  // extension: normalize grid observations too (ML-Agents never does; rlt did before
+  // 2026-11-25, and hide-and-seek's seekers learned to chase sooner with it)
+  bool normalize_grids = false;
   int hidden_units = 128;    // width of each hidden layer
   int num_layers = 2;        // hidden layers
   std::string vis_encode_type = "simple";  // encoder of grid observations
@@ -189,11 +192,17 @@ struct CompletionCriteria {
 struct Lesson {
   std::string name;
   SamplerSettings value;
+  // Our extension: other env parameters this lesson sets, so that one curriculum can move several
+  // together (e.g. HideAndSeek's level and prop_start_offset, which starts again at every level).
+  // Every lesson of a curriculum names the same ones, and no other entry of
+  // environment_parameters may set them.
+  std::map<std::string, SamplerSettings> other_parameters;
   // Required on every lesson but the last; on the last lesson it is accepted and never used.
   std::optional<CompletionCriteria> completion_criteria;
 
   bool operator==(const Lesson& o) const {
-    return name == o.name && value == o.value && completion_criteria == o.completion_criteria;
+    return name == o.name && value == o.value && other_parameters == o.other_parameters &&
+           completion_criteria == o.completion_criteria;
   }
   bool operator!=(const Lesson& o) const { return !(*this == o); }
 };

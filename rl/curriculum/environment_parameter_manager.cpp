@@ -125,6 +125,12 @@ Parameters EnvironmentParameterManager::sample(std::mt19937_64& rng) const {
                                          : parameter.sampler;
     values[name] = draw(sampler, rng);
   }
+  // the other parameters of each curriculum's current lesson, after every entry's own value
+  for (const auto& [name, parameter] : settings_) {
+    if (!parameter.is_curriculum()) continue;
+    for (const auto& [other, sampler] : parameter.curriculum[state_.at(name).lesson].other_parameters)
+      values[other] = draw(sampler, rng);
+  }
   return values;
 }
 
@@ -337,6 +343,15 @@ void EnvironmentParameterManager::deserialize(const std::string& state) {
         bad_state("parameters." + name + ".lesson: lesson " + number_text(lesson) +
                   " does not exist (the curriculum has " + std::to_string(lesson_count) +
                   " lessons)");
+      }
+      // a config whose lessons changed since the state was saved would resume elsewhere
+      const std::string& expected = settings_.at(name).curriculum[int(lesson)].name;
+      if (values["lesson_name"] && values["lesson_name"].IsScalar() &&
+          values["lesson_name"].Scalar() != expected) {
+        bad_state("parameters." + name + ".lesson_name: the run was in lesson " +
+                  number_text(lesson) + " '" + values["lesson_name"].Scalar() +
+                  "', which the config calls '" + expected +
+                  "': its curriculum changed since (start a new run, or restore the old lessons)");
       }
       found->second.lesson = int(lesson);
       if (values["smoothed_value"]) {

@@ -13,6 +13,8 @@
 //   caller decides which episodes count (training feeds only those played entirely in the
 //   current lessons). The mean, smoothing and threshold work as for rewards; min_lesson_length
 //   counts those episodes.
+// - Our extension, a lesson's `other_parameters`: sample() also draws the other parameters of
+//   each curriculum's current lesson, so one curriculum moves several parameters together.
 // - update() looks at every curriculum parameter that is not at its last lesson: a lesson whose
 //   behavior has recorded fewer than min_lesson_length episodes goes on. Otherwise measure
 //   `progress` ends it when steps / max_steps > threshold; measure `reward` computes the mean of

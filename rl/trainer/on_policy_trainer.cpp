@@ -18,9 +18,10 @@ int total_obs_size(const BehaviorSpec& spec) {
   for (const auto& o : spec.observations) n += o.size();
   return n;
 }
-// [total_obs_size] 1 for the columns of grid observations: normalization leaves them as they are,
-// as ML-Agents normalizes vector observations only (its grids go to a CNN unnormalized). Sparse
-// 0-1 cells that are mostly 0 would otherwise become rare spikes of up to kClip.
+// [total_obs_size] 1 for the columns of grid observations: normalization leaves them as they are
+// (unless network_settings.normalize_grids), as ML-Agents normalizes vector observations only
+// (its grids go to a CNN unnormalized). Sparse 0-1 cells that are mostly 0 would otherwise become
+// rare spikes of up to kClip.
 std::vector<uint8_t> grid_columns(const BehaviorSpec& spec) {
   std::vector<uint8_t> out;
   for (const auto& o : spec.observations)
@@ -48,7 +49,7 @@ OnPolicyTrainer::OnPolicyTrainer(const BehaviorSpec& spec, const BehaviorConfig&
   shape.shared_critic = config.hyperparameters.shared_critic;
   shape.with_critic = with_critic;
   net_ = PolicyNetwork(shape);
-  normalizer_.set_passthrough(grid_columns(spec));
+  if (!config.network_settings.normalize_grids) normalizer_.set_passthrough(grid_columns(spec));
 
   pending_.assign(rows, 0);
   rewards_.resize(rows);
@@ -275,7 +276,15 @@ void OnPolicyTrainer::load_weights(torch::serialize::InputArchive& a) {
     throw std::runtime_error("checkpoint normalizer of behavior " + spec_.name + " has size " +
                              std::to_string(normalizer_.size()) + ", expected " +
                              std::to_string(obs_size_));
-  normalizer_.set_passthrough(grid_columns(spec_));
+  // a checkpoint written since grids pass through has them at exactly mean 0, variance 1; one
+  // from before keeps normalizing its grids, as its network was trained
+  const std::vector<uint8_t> grids = grid_columns(spec_);
+  bool passed_through = true;
+  for (int i = 0; i < obs_size_; ++i)
+    passed_through = passed_through && (!grids[i] || (normalizer_.mean()[i] == 0.0 &&
+                                                      normalizer_.variance()[i] == 1.0));
+  if (passed_through && !config_.network_settings.normalize_grids)
+    normalizer_.set_passthrough(grids);
   actor_stale_ = true;
 }
 

@@ -70,7 +70,11 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   if (options_.seed >= 0) es.seed = options_.seed;
   if (options_.threads > 0) es.num_threads = options_.threads;
   for (const auto& [name, value] : options_.params) {
-    if (config_.environment_parameters.count(name))
+    bool controlled = config_.environment_parameters.count(name) > 0;
+    for (const auto& [other, parameter] : config_.environment_parameters)
+      controlled = controlled || (parameter.is_curriculum() &&
+                                  parameter.curriculum[0].other_parameters.count(name) > 0);
+    if (controlled)
       throw std::invalid_argument("--param " + name + ": " + config_.source_file +
                                   " sets it in environment_parameters");
     es.params[name] = value;

@@ -692,6 +692,48 @@ TEST(ConfigParserTest, MetricMeasuredLessonRoundTrips) {
   EXPECT_EQ(run_config_to_yaml(again), yaml);
 }
 
+// other_parameters: a lesson may set further env parameters; every lesson names the same ones and
+// no other entry sets them
+TEST(ConfigParserTest, LessonsMaySetOtherParameters) {
+  const RunConfig config = parse(with_parameters(R"(  h:
+    curriculum:
+      - name: A
+        value: 1
+        other_parameters: {g: 0.5, k: 3}
+        completion_criteria: {behavior: CartPole, threshold: 1}
+      - name: B
+        value: 2
+        other_parameters: {g: 0, k: 4}
+)"));
+  const auto& lessons = config.environment_parameters.at("h").curriculum;
+  EXPECT_EQ(lessons[0].other_parameters.at("g"), SamplerSettings::constant(0.5f));
+  EXPECT_EQ(lessons[1].other_parameters.at("k"), SamplerSettings::constant(4.f));
+  const std::string yaml = run_config_to_yaml(config);
+  const RunConfig again = parse(yaml);
+  EXPECT_EQ(again.environment_parameters, config.environment_parameters);
+  EXPECT_EQ(run_config_to_yaml(again), yaml);
+  const std::string two = "  h:\n    curriculum:\n      - name: A\n        value: 1\n"
+                          "        other_parameters: {g: 1}\n"
+                          "        completion_criteria: {behavior: CartPole, threshold: 1}\n"
+                          "      - name: B\n        value: 2\n";
+  expect_error(with_parameters(two + "        other_parameters: {k: 1}\n"),
+               "environment_parameters.h.curriculum[1].other_parameters", 12,
+               "lesson 'B' sets k, the first lesson sets g: every lesson must set the same");
+  expect_error(with_parameters(two), "environment_parameters.h.curriculum[1].other_parameters", 12,
+               "lesson 'B' sets none");
+  expect_error(with_parameters(two + "        other_parameters: {g: 2}\n  g: 3\n"),
+               "environment_parameters.h", 6,
+               "the lessons of h set g (other_parameters), but it has its own entry");
+  const std::string other = "  k:\n    curriculum:\n      - name: C\n        value: 1\n"
+                            "        other_parameters: {g: 3}\n";
+  expect_error(with_parameters(two + "        other_parameters: {g: 2}\n" + other),
+               "environment_parameters.k", 15, "the lessons of h set it too");
+  expect_error(with_parameters("  h:\n    curriculum:\n      - name: A\n        value: 1\n"
+                               "        other_parameters: 5\n"),
+               "environment_parameters.h.curriculum[0].other_parameters", 10,
+               "expected a mapping of env parameter names to values");
+}
+
 TEST(ConfigParserErrorTest, CurriculumErrors) {
   expect_error(with_parameters("  h:\n    curriculum: []\n"), "environment_parameters.h.curriculum",
                7, "expected a non-empty list of lessons");

@@ -360,7 +360,21 @@ TEST(EnvironmentParameterManagerTest, DeserializeChecksTheState) {
                std::runtime_error);
   EXPECT_THROW(manager.deserialize("{\"reward_buffers\": {\"Jumper\": [\"x\"]}}"),
                std::runtime_error);
-  EXPECT_EQ(manager.lessons().at("height"), 0);  // unchanged by the failures
+  // a lesson that the config now names otherwise: its curriculum changed since
+  try {
+    manager.deserialize(
+        "{\"parameters\": {\"height\": {\"lesson\": 1, \"lesson_name\": \"Two\"}}}");
+    ADD_FAILURE() << "resumed in a renamed lesson";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("lesson 1 'Two', which the config calls 'Mid'"),
+              std::string::npos)
+        << e.what();
+  }
+  manager.deserialize(
+      "{\"parameters\": {\"height\": {\"lesson\": 1, \"lesson_name\": \"Mid\"}}}");
+  EXPECT_EQ(manager.lessons().at("height"), 1);
+  manager.deserialize("{}");
+  EXPECT_EQ(manager.lessons().at("height"), 0);
   // Unknown parameters and behaviors are ignored; missing ones start over.
   manager.deserialize(
       "{\"parameters\": {\"gone\": {\"lesson\": 4}, \"height\": {\"lesson\": 2}}, "
@@ -405,6 +419,19 @@ TEST(EnvironmentParameterManagerTest, MetricMeasureAdvancesOnTheEpisodeMetric) {
   EXPECT_EQ(manager.lessons().at("height"), 0);
   EXPECT_TRUE(manager.metric_buffer("fort_rate").empty());  // every buffer starts over
   EXPECT_TRUE(manager.reward_buffer("Jumper").empty());
+}
+
+// a lesson's other_parameters are set with its own value and change with the lesson
+TEST(EnvironmentParameterManagerTest, LessonsSetTheirOtherParameters) {
+  Lesson first = lesson("One", 1.f, reward_criteria("Jumper", 0.5, 1));
+  first.other_parameters["offset"] = SamplerSettings::constant(0.f);
+  Lesson second = lesson("Two", 2.f);
+  second.other_parameters["offset"] = SamplerSettings::constant(0.25f);
+  EnvironmentParameterManager manager({{"level", curriculum({first, second})}});
+  EXPECT_EQ(manager.sample(1), (Parameters{{"level", 1.f}, {"offset", 0.f}}));
+  manager.add_episode_reward("Jumper", 1.0);
+  ASSERT_TRUE(manager.update(kJumperProgress).changed);
+  EXPECT_EQ(manager.sample(1), (Parameters{{"level", 2.f}, {"offset", 0.25f}}));
 }
 
 TEST(EnvironmentParameterManagerTest, MetricMeasureWaitsAtOrBelowItsThreshold) {

@@ -474,32 +474,57 @@ TEST_F(TrainingRunTest, InitializeFromStartsWithTheOtherRunsWeightsAndFreshCount
 }
 
 // normalize: true standardizes vector observations only; grid columns keep mean 0 and variance 1,
-// so they reach the network as they are (ML-Agents normalizes vector observations only)
+// so they reach the network as they are (ML-Agents normalizes vector observations only), over a
+// resume too; normalize_grids: true standardizes them as well
 TEST_F(TrainingRunTest, NormalizationLeavesGridObservationsAsTheyAre) {
-  std::ostringstream y;
-  for (const char* b : {"Hider", "Seeker"})
-    y << (b[0] == 'H' ? "behaviors:\n" : "") << "  " << b << ":\n    trainer_type: ppo\n"
-      << "    hyperparameters: {batch_size: 64, buffer_size: 128, num_epoch: 1}\n"
-      << "    network_settings: {hidden_units: 16, num_layers: 1, normalize: true}\n"
-      << "    time_horizon: 32\n    max_steps: 200\n    summary_freq: 1000\n";
-  y << "env_settings: {env_id: HideAndSeek, num_envs: 1, seed: 5, params: {level: 2}}\n";
-  TrainingRun run(load_run_config_from_string(y.str(), "grids.yaml"), options("grids"));
-  run.train();
-  const RunningNormalizer& n = *run.trainer(0).normalizer();
-  ASSERT_GT(n.count(), 0.0);
-  const auto& obs = run.trainer(0).spec().observations;
-  int column = 0, vector_moved = 0;
-  for (const auto& o : obs) {
-    for (int i = 0; i < o.size(); ++i, ++column) {
-      if (o.kind == ObservationKind::kGrid) {
-        ASSERT_EQ(n.mean()[column], 0.0) << o.name << " " << i;
-        ASSERT_EQ(n.variance()[column], 1.0) << o.name << " " << i;
-      } else {
-        vector_moved += n.mean()[column] != 0.0;
+  const auto config = [](int max_steps, bool grids_too = false) {
+    std::ostringstream y;
+    for (const char* b : {"Hider", "Seeker"})
+      y << (b[0] == 'H' ? "behaviors:\n" : "") << "  " << b << ":\n    trainer_type: ppo\n"
+        << "    hyperparameters: {batch_size: 64, buffer_size: 128, num_epoch: 1}\n"
+        << "    network_settings: {hidden_units: 16, num_layers: 1, normalize: true, "
+        << "normalize_grids: " << (grids_too ? "true" : "false") << "}\n"
+        << "    time_horizon: 32\n    max_steps: " << max_steps << "\n    summary_freq: 1000\n";
+    y << "env_settings: {env_id: HideAndSeek, num_envs: 1, seed: 5, params: {level: 2}}\n";
+    return load_run_config_from_string(y.str(), "grids.yaml");
+  };
+  // grid columns at mean 0 and variance 1, and some vector columns moved
+  const auto expect_grids_pass = [](TrainingRun& run) {
+    const RunningNormalizer& n = *run.trainer(0).normalizer();
+    ASSERT_GT(n.count(), 0.0);
+    int column = 0, vector_moved = 0;
+    for (const auto& o : run.trainer(0).spec().observations) {
+      for (int i = 0; i < o.size(); ++i, ++column) {
+        if (o.kind == ObservationKind::kGrid) {
+          ASSERT_EQ(n.mean()[column], 0.0) << o.name << " " << i;
+          ASSERT_EQ(n.variance()[column], 1.0) << o.name << " " << i;
+        } else {
+          vector_moved += n.mean()[column] != 0.0;
+        }
       }
     }
-  }
-  EXPECT_GT(vector_moved, 10);
+    EXPECT_GT(vector_moved, 10);
+  };
+  TrainingRun run(config(200), options("grids"));
+  run.train();
+  expect_grids_pass(run);
+  // and so they stay over a resume
+  auto opt = options("grids");
+  opt.resume = true;
+  TrainingRun resumed(config(400), opt);
+  const double count = resumed.trainer(0).normalizer()->count();
+  resumed.train();
+  EXPECT_GT(resumed.trainer(0).normalizer()->count(), count);
+  expect_grids_pass(resumed);
+  // normalize_grids: true standardizes them with the rest
+  TrainingRun both(config(200, true), options("grids_too"));
+  both.train();
+  const RunningNormalizer& n = *both.trainer(0).normalizer();
+  int column = 0, grid_moved = 0;
+  for (const auto& o : both.trainer(0).spec().observations)
+    for (int i = 0; i < o.size(); ++i, ++column)
+      grid_moved += o.kind == ObservationKind::kGrid && n.mean()[column] != 0.0;
+  EXPECT_GT(grid_moved, 10);
 }
 
 TEST_F(TrainingRunTest, UnknownBehaviorOrParameterIsAnErrorBeforeWriting) {
@@ -507,6 +532,21 @@ TEST_F(TrainingRunTest, UnknownBehaviorOrParameterIsAnErrorBeforeWriting) {
   auto config = small_config("CartPole", "CartPole", 600, 1000);
   config.environment_parameters["gravity"] = 3;
   EXPECT_THROW(TrainingRun(config, options("bad")), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+  // --param of a parameter that a lesson's other_parameters sets names the clash
+  config = small_config("CartPole", "CartPole", 600, 1000);
+  Lesson only;
+  only.name = "only";
+  only.other_parameters["offset"] = SamplerSettings::constant(0.f);
+  config.environment_parameters["level"].curriculum = {only};
+  auto opt = options("bad");
+  opt.params["offset"] = 1.f;
+  try {
+    TrainingRun run(config, opt);
+    ADD_FAILURE() << "--param offset was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("--param offset"), std::string::npos) << e.what();
+  }
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
 }
 
