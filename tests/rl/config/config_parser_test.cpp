@@ -929,7 +929,7 @@ TEST(ConfigParserErrorTest, UnknownKeySuggestsTheClosestName) {
 TEST(ConfigParserErrorTest, UnknownKeyWithoutCloseNameListsTheKeys) {
   expect_error(cartpole_with("    network_settings:\n      colour: red\n"),
                "behaviors.CartPole.network_settings", 4,
-               "unknown key 'colour' (expected one of: normalize, hidden_units");
+               "unknown key 'colour' (expected one of: normalize, normalize_grids, hidden_units");
   // SAC hyperparameters are unknown to the PPO schema.
   expect_error(cartpole_with("    hyperparameters:\n      tau: 0.005\n"),
                "behaviors.CartPole.hyperparameters", 4, "unknown key 'tau'");
