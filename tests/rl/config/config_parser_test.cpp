@@ -734,6 +734,18 @@ TEST(ConfigParserTest, LessonsMaySetOtherParameters) {
                "expected a mapping of env parameter names to values");
 }
 
+// every shipped configuration reads (ctest runs in the source tree)
+TEST(ConfigParserTest, EveryShippedConfigReads) {
+  int read = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator("configs")) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_NO_THROW(load_run_config(entry.path().string()));
+    ++read;
+  }
+  EXPECT_GE(read, 10);
+}
+
 TEST(ConfigParserErrorTest, CurriculumErrors) {
   expect_error(with_parameters("  h:\n    curriculum: []\n"), "environment_parameters.h.curriculum",
                7, "expected a non-empty list of lessons");
