@@ -804,8 +804,7 @@ void Parser::parse_environment_parameters(
   // a parameter that some curriculum's lessons set is set there only
   std::map<std::string, std::string> set_by;  // parameter -> the curriculum setting it
   for (const auto& [name, parameter] : *parameters) {
-    if (!parameter.is_curriculum()) continue;
-    for (const auto& [other, sampler] : parameter.curriculum[0].other_parameters) {
+    for (const auto& [other, sampler] : parameter.other_parameters()) {
       std::string clash;
       if (parameters->count(other)) clash = "it has its own entry";
       if (other == name) clash = "it is the curriculum's own parameter (give it as the value)";

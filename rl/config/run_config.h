@@ -219,6 +219,11 @@ struct EnvironmentParameterSettings {
       : sampler(SamplerSettings::constant(constant)) {}
 
   bool is_curriculum() const { return !curriculum.empty(); }
+  // the other parameters its lessons set (every lesson names the same ones); none without lessons
+  const std::map<std::string, SamplerSettings>& other_parameters() const {
+    static const std::map<std::string, SamplerSettings> kNone;
+    return is_curriculum() ? curriculum[0].other_parameters : kNone;
+  }
 
   bool operator==(const EnvironmentParameterSettings& o) const {
     return curriculum == o.curriculum && (is_curriculum() || sampler == o.sampler);

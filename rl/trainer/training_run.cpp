@@ -72,8 +72,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   for (const auto& [name, value] : options_.params) {
     bool controlled = config_.environment_parameters.count(name) > 0;
     for (const auto& [other, parameter] : config_.environment_parameters)
-      controlled = controlled || (parameter.is_curriculum() &&
-                                  parameter.curriculum[0].other_parameters.count(name) > 0);
+      controlled = controlled || parameter.other_parameters().count(name) > 0;
     if (controlled)
       throw std::invalid_argument("--param " + name + ": " + config_.source_file +
                                   " sets it in environment_parameters");
