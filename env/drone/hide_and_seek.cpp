@@ -80,6 +80,7 @@ struct HideAndSeek::Settings {
   bool object_obs = true;  // the "objects" observation (else zeros)
   bool sensor_obs = true;  // the rays and both grids (else zeros)
   bool latched_grab = false;  // grab option 0 keeps a held prop; only a lock lets it go
+  bool square_grab = false;   // a grab swings the panel face-on to the drone (PropParams)
 };
 
 namespace {
@@ -154,6 +155,7 @@ HideAndSeek::HideAndSeek()
       {"object_obs", 1.f},
       {"sensor_obs", 1.f},
       {"latched_grab", 0.f},
+      {"square_grab", 0.f},
   };
   // SPEC section 8: chasing is dated in seeker steps, shelter in hider steps and only counts at
   // level 2 and above (level 1's single doorway is the curriculum's first lesson) with the props
@@ -270,6 +272,7 @@ void HideAndSeek::build_episode() {
   s.object_obs = drone::int_parameter(*this, "object_obs", 0, 1) == 1;
   s.sensor_obs = drone::int_parameter(*this, "sensor_obs", 0, 1) == 1;
   s.latched_grab = drone::int_parameter(*this, "latched_grab", 0, 1) == 1;
+  s.square_grab = drone::int_parameter(*this, "square_grab", 0, 1) == 1;
   // -1: the level's own (0 at levels 1 and 2, 0.5 at 3 and 4)
   const float outside = parameter("hider_outside_chance");
   if (outside != -1.0f && !(outside >= 0.0f && outside <= 1.0f))
@@ -296,7 +299,9 @@ void HideAndSeek::build_episode() {
   drone::ArenaParams arena_params;
   arena_params.level = level_;
   arena_ = std::make_unique<drone::Arena>(*world_, arena_params);
-  props_ = std::make_unique<drone::PropSet>(*world_);
+  drone::PropParams prop_params;
+  prop_params.square_hold = s.square_grab;
+  props_ = std::make_unique<drone::PropSet>(*world_, prop_params);
 
   SpawnPlanner planner(arena_params, engine_);
   const auto& openings = arena_->openings();

@@ -15,7 +15,10 @@
 // that locks the prop it holds lets go of it; only the locking team may unlock). With
 // `latched_grab` 1 grab option 0 keeps a held prop instead of releasing it, so a hold lasts until
 // a lock lets it go (default 0: held only while chosen, the SPEC's). Policies that choose hold and
-// release by turns drop the prop every other decision and take it again at a drifted pose.
+// release by turns drop the prop every other decision and take it again at a drifted pose. With
+// `square_grab` 1 a grab swings the panel face-on to the drone (PropParams::square_hold), so a
+// hider facing a doorway holds its panel parallel to it, whichever way the panel lay (default 0:
+// the panel keeps the pose it was grabbed at).
 //
 // Time: physics at 50 Hz; an agent decides every `decision_period` (3) frames and its thrust is
 // repeated for those frames. An episode lasts at most `episode_frames` (3072) frames; the first

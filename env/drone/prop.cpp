@@ -13,6 +13,20 @@ constexpr float kPi = 3.14159265358979f;
 
 btQuaternion yaw_rotation(float yaw) { return btQuaternion(btVector3(0, 1, 0), yaw); }
 
+// the held pose of a square hold (PropParams::square_hold)
+btTransform squared(const btTransform& prop_in_drone, const btVector3& half, float drone_radius) {
+  // the panel's normal is its local z, the drone's forward its local z: turn the panel about the
+  // vertical by the multiple of pi nearest its yaw in the drone's frame (0 or pi: face-on)
+  const btVector3 normal = prop_in_drone.getBasis().getColumn(2);
+  const float yaw = std::atan2(normal.x(), normal.z());
+  const float face_on = kPi * std::round(yaw / kPi);
+  btTransform out(yaw_rotation(face_on), prop_in_drone.getOrigin());
+  // its near face at least a hand's breadth in front of the drone's sphere
+  const float clear = drone_radius + half.z() + 0.05f;
+  if (out.getOrigin().z() < clear) out.getOrigin().setZ(clear);
+  return out;
+}
+
 // continuous collision detection for a box: sweep when a frame moves it by half its thinnest side
 void enable_ccd(btRigidBody* body, const btVector3& half) {
   const float thin = std::min({half.x(), half.y(), half.z()});
@@ -114,8 +128,8 @@ int PropSet::grab(const DroneBody& drone) {
   // the drone's body is owned by the world; the constraint needs it non-const
   btRigidBody& a = const_cast<btRigidBody&>(drone.body());
   // the prop's pose in the drone's frame, kept while held: turning the drone turns the prop
-  const btTransform prop_in_a =
-      a.getWorldTransform().inverse() * prop.body->getWorldTransform();
+  btTransform prop_in_a = a.getWorldTransform().inverse() * prop.body->getWorldTransform();
+  if (params_.square_hold) prop_in_a = squared(prop_in_a, prop.half, drone.params().radius);
   prop.grab = world_.add_constraint(
       std::make_unique<btFixedConstraint>(a, *prop.body, prop_in_a, btTransform::getIdentity()),
       true);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numeric>
 
@@ -600,6 +601,48 @@ TEST(HideAndSeekTest, LatchedGrabKeepsTheHoldUntilALock) {
     g.harness.step();
     EXPECT_FALSE(g.env.props()[0].locked());
     EXPECT_EQ(g.env.props().held_by(hider), -1);
+  }
+}
+
+// square_grab 1: a hider facing the doorway that grabs a panel turned 40 degrees to it (in the
+// room, clear of the walls) holds it face-on within a few decisions; with 0 the panel keeps its
+// turn
+TEST(HideAndSeekTest, SquareGrabHoldsThePanelFaceOn) {
+  for (const float square : {0.f, 1.f}) {
+    SCOPED_TRACE(square);
+    Game g({{"level", 1.f}, {"num_hiders", 1.f}, {"num_seekers", 1.f}, {"square_grab", square}});
+    place_prop_in_doorway_and_hider_before_it(g);
+    auto& props = g.env.props();
+    // both moved 1.5 m into the room, clear of the walls, and the panel turned
+    const btVector3 back = -1.5f * g.env.arena().openings()[0].normal;
+    const float turned = 40.0f * 3.14159265f / 180.0f;
+    btTransform pose = props[0].body->getWorldTransform();
+    pose.setOrigin(pose.getOrigin() + back);
+    pose.setRotation(btQuaternion(btVector3(0, 1, 0), turned));
+    props[0].body->setWorldTransform(pose);
+    auto& hider = g.env.agent(HideAndSeek::kHider, 0).drone->body();
+    btTransform hider_pose = hider.getWorldTransform();
+    hider_pose.setOrigin(hider_pose.getOrigin() + back);
+    hider.setWorldTransform(hider_pose);
+    for (int decision = 0; decision < 10; ++decision) {  // hold, no thrust
+      g.set_all(0.0f, 1, 0);
+      g.harness.step();
+    }
+    ASSERT_EQ(g.env.props().held_by(*g.env.agent(HideAndSeek::kHider, 0).drone), 0);
+    // the panel's normal against the hider's forward (both horizontal): 0 or 180 degrees is
+    // face-on; the hider itself may have turned a little as the panel swung
+    const btVector3 normal = props[0].body->getWorldTransform().getBasis().getColumn(2);
+    const btVector3 forward = g.env.agent(HideAndSeek::kHider, 0).drone->forward();
+    const float to_hider = std::acos(std::min(1.0f, std::abs(normal.dot(forward))));
+    const float hider_turned = std::acos(
+        std::min(1.0f, std::abs(forward.dot(g.env.arena().openings()[0].normal))));
+    std::printf("square_grab %.0f: panel %.1f degrees off face-on, hider turned %.1f degrees\n",
+                square, to_hider * 180 / 3.14159265f, hider_turned * 180 / 3.14159265f);
+    if (square == 1.f) {
+      EXPECT_LT(to_hider, 2.0f * 3.14159265f / 180.0f);
+    } else {
+      EXPECT_GT(to_hider, 30.0f * 3.14159265f / 180.0f);
+    }
   }
 }
 

@@ -1,7 +1,7 @@
-// Props and obstacles: grab drags a prop and release leaves it, grab needs reach and the front
-// cone, a locked prop does not move when rammed, only the locking team unlocks, a locked prop
-// cannot be grabbed, obstacles glide under weak gravity, and a reset with props stays
-// bit-identical.
+// Props and obstacles: grab drags a prop and release leaves it, a square hold swings the panel
+// face-on, grab needs reach and the front cone, a locked prop does not move when rammed, only the
+// locking team unlocks, a locked prop cannot be grabbed, obstacles glide under weak gravity, and a
+// reset with props stays bit-identical.
 #include "env/drone/prop.h"
 
 #include <gtest/gtest.h>
@@ -82,6 +82,59 @@ TEST(PropTest, GrabbedPropFollowsAndStaysAfterRelease) {
   EXPECT_LT(speed_after, 0.2f * speed_at_release);
   EXPECT_LT(drift, 0.7f * flown);
   EXPECT_GT((drone.position() - props[p].position()).length(), d0 + 8.0f);
+}
+
+// yaw of the prop's panel normal (its local z) in the drone's frame, in (-pi, pi]
+float yaw_in_drone(const DroneBody& drone, const Prop& prop) {
+  const btTransform rel = drone.body().getWorldTransform().inverse() *
+                          prop.body->getWorldTransform();
+  const btVector3 normal = rel.getBasis().getColumn(2);
+  return std::atan2(normal.x(), normal.z());
+}
+
+TEST(PropTest, SquareHoldSwingsThePanelFaceOn) {
+  // a panel turned 50 degrees to a drone facing +z, 1.2 m ahead; held for 1 s without moving
+  for (const bool square : {false, true}) {
+    BulletWorld world;
+    PropParams params;
+    params.square_hold = square;
+    PropSet props(world, params);
+    DroneBody drone(world, btVector3(0, 2, 0), 0.0f, kHider);
+    const float turned = 50.0f * kPi / 180.0f;
+    const int p = props.add(btVector3(0, 2, 1.2f), turned);
+    ASSERT_EQ(props.grab(drone), p);
+    EXPECT_NEAR(yaw_in_drone(drone, props[p]), turned, 1e-3f);
+    fly(world, drone, 50, 0);
+    const float held = yaw_in_drone(drone, props[p]);
+    // then carried: turn the drone a quarter turn, the panel turns with it
+    fly(world, drone, 60, 0, 0, 0, 1);
+    const float after_turn = yaw_in_drone(drone, props[p]);
+    const float distance = (props[p].position() - drone.position()).length();
+    std::printf("square_hold %d: panel at %.1f deg to the drone after 1 s, %.1f after a turn, "
+                "%.2f m away\n",
+                square, held * 180 / kPi, after_turn * 180 / kPi, distance);
+    if (square) {
+      EXPECT_NEAR(held, 0.0f, 2.0f * kPi / 180.0f);
+      EXPECT_NEAR(after_turn, 0.0f, 3.0f * kPi / 180.0f);
+    } else {
+      EXPECT_NEAR(held, turned, 2.0f * kPi / 180.0f);
+      EXPECT_NEAR(after_turn, turned, 3.0f * kPi / 180.0f);
+    }
+    EXPECT_GT(distance, drone.params().radius + props[p].half.z());
+  }
+  // a panel edge-on to the drone (90 degrees) swings to face it and keeps clear of it
+  BulletWorld world;
+  PropParams params;
+  params.square_hold = true;
+  PropSet props(world, params);
+  DroneBody drone(world, btVector3(0, 2, 0), 0.0f, kHider);
+  const int p = props.add(btVector3(0, 2, 1.2f), 0.5f * kPi);
+  ASSERT_EQ(props.grab(drone), p);
+  fly(world, drone, 50, 0);
+  const float yaw = yaw_in_drone(drone, props[p]);
+  EXPECT_LT(std::min(std::abs(yaw), std::abs(std::abs(yaw) - kPi)), 2.0f * kPi / 180.0f);
+  const btVector3 local = drone.body().getWorldTransform().invXform(props[p].position());
+  EXPECT_GT(local.z(), drone.params().radius + props[p].half.z());
 }
 
 TEST(PropTest, GrabNeedsReachAndFront) {
