@@ -13,9 +13,11 @@ report=$REPORTS/rq1_curriculum.md
   echo
   echo "Produced by \`scripts/experiments/rq1_curriculum.sh\` on $(date -u +%Y-%m-%d), $STEPS steps"
   echo "per behavior, seeds: $SEEDS. Curriculum: \`configs/hide_and_seek.yaml\`; no curriculum:"
-  echo "\`configs/experiments/rq1_no_curriculum.yaml\` (level 4 throughout)."
+  echo "\`configs/experiments/rq1_no_curriculum.yaml\` (level 4 throughout). The curriculum's lessons"
+  echo "0-9 are level 1 (the prop moving from its doorway to its own place), 10-21 level 2 (the same"
+  echo "with two props), 22 level 3 and 23 level 4."
   echo
-  echo "| seed | arm | final hider reward | final lesson | fort rate (last row) | minutes |"
+  echo "| seed | arm | final hider reward | final lesson (index) | fort rate (last row) | minutes |"
   echo "|---|---|---|---|---|---|"
 } > "$report"
 for seed in $SEEDS; do
@@ -26,8 +28,8 @@ for seed in $SEEDS; do
     hider=$run/metrics/Hider.csv
     episodes=$run/metrics/episodes.csv
     reward=$(awk -F, 'NR > 1 && $3 > 0 { r = $4 } END { printf "%.3f", r }' "$hider")
-    # the lesson index (0 = level 1); the control arm has no curriculum
-    lesson=$({ grep -o '"level": [0-9]*' "$run/training_status.json" || true; } | awk '{ print $2 + 1 }')
+    # the lesson index in the level curriculum; the control arm has no curriculum
+    lesson=$({ grep -o '"level": [0-9]*' "$run/training_status.json" || true; } | awk '{ print $2 }')
     fort=$(awk -F, -v c="$(column fort_rate "$episodes")" 'NR > 1 { f = $c } END { printf "%.2f", f }' "$episodes")
     minutes=$(awk -F, 'END { printf "%.0f", $2 / 60 }' "$hider")
     echo "| $seed | $arm | $reward | ${lesson:-fixed 4} | $fort | $minutes |" >> "$report"

@@ -396,7 +396,7 @@ TEST_F(RltCliTest, TrainParamErrorsNameTheParameterAndWriteNothing) {
 }
 
 // issue 5: the main job's config trains end to end (a few thousand steps: no update yet, the
-// buffer is 12,288; the first episodes end after 1024 decisions) and both exported policies load
+// buffer is 12,288; the first episodes end after 512 decisions) and both exported policies load
 // in a fresh process and act
 TEST_F(RltCliTest, HideAndSeekConfigTrainsAndExportsBothPolicies) {
   const fs::path results = root_ / "results_hs";

@@ -126,7 +126,8 @@ TEST_F(RltDistTest, HideAndSeekKeepsItsReplicasEqualWithSelfPlayAndLessons) {
            {"team_change: 100000", "team_change: 1000"},
            {"team_change: 200000", "team_change: 2000"},
            {"save_steps: 50000", "save_steps: 1000"},
-           {"min_lesson_length: 100", "min_lesson_length: 1"}}) {
+           {"min_lesson_length: 100", "min_lesson_length: 1"},
+           {"min_lesson_length: 50", "min_lesson_length: 1"}}) {
     size_t at = 0;
     while ((at = text.find(from, at)) != std::string::npos) text.replace(at, from.size(), to);
   }
