@@ -11,12 +11,13 @@
 //   grab:   attaches the nearest prop in reach and in front that is neither locked nor held by
 //           another drone, with a btFixedConstraint that keeps the prop's pose in the drone's
 //           frame (collisions between the two are off): it is dragged at a fixed distance and
-//           turns with the drone, so a drone can carry a panel square to an opening; a drone already
-//           holding a prop keeps it. With square_hold the held pose is turned about the panel's
-//           centre to the nearer of the two face-on poses (its broad side across the drone's
-//           forward) and kept at least clear of the drone, so the constraint swings the panel
-//           square within a few frames: facing an opening then holds the panel parallel to it. Fails (-1) when no prop qualifies: a locked prop is never
-//           grabbed and a failed grab releases nothing;
+//           turns with the drone, so a drone can carry a panel square to an opening; a drone
+//           already holding a prop keeps it. With square_hold the held pose is turned about the
+//           panel's centre to the nearer of the two face-on poses (its broad side across the
+//           drone's forward) and kept clear of the drone, so the constraint swings the panel
+//           square within a few frames: facing an opening then holds the panel parallel to it.
+//           Fails (-1) when no prop qualifies: a locked prop is never grabbed and a failed grab
+//           releases nothing;
 //   release: removes the drone's constraint; the prop keeps its velocity and is then damped;
 //   lock:   freezes the nearest unlocked prop in reach and in front: any grab on it is released,
 //           its velocities are zeroed and it gets zero inverse mass and zero linear and angular
