@@ -24,6 +24,7 @@ summary line per behavior every summary_freq steps, a progress bar with the time
 terminal), and at the end a table of steps, rewards, ELO, lessons and strategies.
 env_settings.stagger_steps S (default 0) spreads the env instances over their episodes: after
 every start and checkpoint instance i first plays i x S / num_envs still steps, not learned from.
+A behavior's self_play.turn_parameters hold for the episodes begun while its team learns.
 
 Options:
   --run-id ID            run folder name (default: checkpoint_settings.run_id)
@@ -36,7 +37,8 @@ Options:
   --max-steps N          steps per behavior, overriding max_steps
   --param NAME=VALUE     set an env parameter over env_settings.params (repeat; not one that
                          environment_parameters sets, itself or in a lesson's
-                         other_parameters), e.g. --param unseen_reward=-0.001
+                         other_parameters, nor one in a behavior's
+                         self_play.turn_parameters), e.g. --param unseen_reward=-0.001
   --threads T            environment threads (default: all cores); the learner's matrix products
                          use them too when the network is large (first layer >= 65536 weights)
   --nproc N              train with N data-parallel ranks on this machine (see below)

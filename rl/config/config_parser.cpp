@@ -653,6 +653,13 @@ void Parser::parse_self_play(const Val& value, BehaviorDraft* draft) const {
                  read_float(v, RealRange{0.0, false, 1.0, false});
            }},
           {"initial_elo", [&](const Val& v) { settings.initial_elo = read_real(v, kAnyReal); }},
+          {"turn_parameters",
+           [&](const Val& v) {
+             settings.turn_parameters.clear();
+             for_each_entry(v, [&](const std::string& name, const Val& p) {
+               settings.turn_parameters[name] = read_float(p, kAnyReal);
+             });
+           }},
       });
 }
 
@@ -1132,6 +1139,21 @@ RunConfig Parser::parse(const YAML::Node& root) {
 
 void emit_float(YAML::Emitter& out, float value) { out << format_float(value, true); }
 
+void emit_float_map(YAML::Emitter& out, const std::map<std::string, float>& values) {
+  if (values.empty()) {
+    out << YAML::Flow << YAML::BeginMap << YAML::EndMap;
+    return;
+  }
+  out << YAML::BeginMap;
+  for (const auto& [name, value] : values) {
+    out << YAML::Key;
+    emit_string(out, name);
+    out << YAML::Value;
+    emit_float(out, value);
+  }
+  out << YAML::EndMap;
+}
+
 void emit_behavior(YAML::Emitter& out, const BehaviorConfig& config) {
   const Hyperparameters& hyper = config.hyperparameters;
   const NetworkSettings& network = config.network_settings;
@@ -1206,6 +1228,10 @@ void emit_behavior(YAML::Emitter& out, const BehaviorConfig& config) {
     out << YAML::Key << "play_against_latest_model_ratio" << YAML::Value;
     emit_float(out, self_play.play_against_latest_model_ratio);
     out << YAML::Key << "initial_elo" << YAML::Value << format_float(self_play.initial_elo, false);
+    if (!self_play.turn_parameters.empty()) {
+      out << YAML::Key << "turn_parameters" << YAML::Value;
+      emit_float_map(out, self_play.turn_parameters);
+    }
     out << YAML::EndMap;
   } else {
     out << YAML::Null;
@@ -1213,20 +1239,6 @@ void emit_behavior(YAML::Emitter& out, const BehaviorConfig& config) {
   out << YAML::EndMap;
 }
 
-void emit_float_map(YAML::Emitter& out, const std::map<std::string, float>& values) {
-  if (values.empty()) {
-    out << YAML::Flow << YAML::BeginMap << YAML::EndMap;
-    return;
-  }
-  out << YAML::BeginMap;
-  for (const auto& [name, value] : values) {
-    out << YAML::Key;
-    emit_string(out, name);
-    out << YAML::Value;
-    emit_float(out, value);
-  }
-  out << YAML::EndMap;
-}
 
 const char* sampler_type_name(SamplerType type) {
   switch (type) {

@@ -61,12 +61,17 @@ struct SelfPlaySettings {
   int window = 10;               // snapshots kept in the pool
   float play_against_latest_model_ratio = 0.5f;  // probability of facing the current policy
   double initial_elo = 1200.0;                   // ELO rating at the start of training
+  // Our extension: environment parameters that hold while this behavior's team is the learning
+  // one, over the curriculum's and env_settings' values (episodes begun after the turn started
+  // get them). It lets each team learn in the setting it needs, e.g. hiders met outside the room
+  // while the seekers learn to chase.
+  std::map<std::string, float> turn_parameters;
 
   bool operator==(const SelfPlaySettings& o) const {
     return save_steps == o.save_steps && team_change == o.team_change &&
            swap_steps == o.swap_steps && window == o.window &&
            play_against_latest_model_ratio == o.play_against_latest_model_ratio &&
-           initial_elo == o.initial_elo;
+           initial_elo == o.initial_elo && turn_parameters == o.turn_parameters;
   }
   bool operator!=(const SelfPlaySettings& o) const { return !(*this == o); }
 };

@@ -231,6 +231,13 @@ std::string SelfPlay::learning_team_name() const {
   return trainers_[t.behavior]->behavior() + ":" + std::to_string(t.group);
 }
 
+const std::map<std::string, float>& SelfPlay::turn_parameters() const {
+  static const std::map<std::string, float> none;
+  if (teams_.empty()) return none;
+  const int b = teams_[learning_team_].behavior;
+  return trainers_[b]->config().self_play ? settings(b).turn_parameters : none;
+}
+
 void SelfPlay::save(torch::serialize::OutputArchive& a) const {
   std::ostringstream rng;
   rng << rng_;

@@ -56,6 +56,8 @@ class SelfPlay {
   void set_elo_state(const std::vector<double>& state);
   // the learning team, as "Behavior:group", for summaries
   std::string learning_team_name() const;
+  // the learning behavior's self_play.turn_parameters (empty without self-play)
+  const std::map<std::string, float>& turn_parameters() const;
 
   void save(torch::serialize::OutputArchive& archive) const;
   void load(torch::serialize::InputArchive& archive);

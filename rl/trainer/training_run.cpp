@@ -76,6 +76,11 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     if (controlled)
       throw std::invalid_argument("--param " + name + ": " + config_.source_file +
                                   " sets it in environment_parameters");
+    for (const auto& [behavior, b] : config_.behaviors)
+      if (b.self_play && b.self_play->turn_parameters.count(name))
+        throw std::invalid_argument("--param " + name + ": " + config_.source_file +
+                                    " sets it in behaviors." + behavior +
+                                    ".self_play.turn_parameters");
     es.params[name] = value;
   }
   if (options_.max_steps > 0) {
@@ -94,8 +99,29 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
                                      std::min(threads, es.num_envs));
   parameters_ = EnvironmentParameterManager(config_.environment_parameters);
   parameter_rng_.seed(rank_seed_ * 6151 + 11);
-  env_->set_parameters(parameters_.sample(parameter_rng_));  // validates the names now
-  env_->reset();  // and the values (envs check them at reset), before anything is written
+  // names are checked by set_parameters, values by the envs at reset: each behavior's turn
+  // parameters first, then the first lessons, before anything is written
+  for (const auto& [name, b] : config_.behaviors) {
+    if (!b.self_play || b.self_play->turn_parameters.empty()) continue;
+    has_turn_parameters_ = true;
+    Parameters turn = parameters_.sample(uint64_t(0));
+    for (const auto& [key, value] : b.self_play->turn_parameters) turn[key] = value;
+    try {
+      env_->set_parameters(turn);
+      env_->reset();
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(config_.source_file + ": behaviors." + name +
+                                  ".self_play.turn_parameters: " + e.what());
+    }
+    for (const auto& [key, value] : b.self_play->turn_parameters) {
+      auto given = es.params.find(key);
+      turn_fallback_[key] =
+          given != es.params.end() ? given->second : env_->spec().default_parameters.at(key);
+    }
+  }
+  env_->set_parameters(turn_fallback_);
+  env_->set_parameters(parameters_.sample(parameter_rng_));
+  env_->reset();
   episode_epoch_.assign(env_->num_envs(), 0);
   try {
     parameters_.check_metric_names(env_->episode_metric_names());
@@ -402,15 +428,27 @@ void TrainingRun::boundary(bool final) {
   }
 }
 
+Parameters TrainingRun::next_parameters() {
+  Parameters p = turn_fallback_;
+  for (const auto& [name, value] : parameters_.sample(parameter_rng_)) p[name] = value;
+  for (const auto& [name, value] : self_play_->turn_parameters()) p[name] = value;
+  return p;
+}
+
 void TrainingRun::sample_all_parameters() {
-  if (parameters_.empty()) return;
-  for (int i = 0; i < env_->num_envs(); ++i) env_->set_parameters(i, parameters_.sample(parameter_rng_));
+  if (parameters_.empty() && !has_turn_parameters_) return;
+  for (int i = 0; i < env_->num_envs(); ++i) env_->set_parameters(i, next_parameters());
   std::fill(episode_epoch_.begin(), episode_epoch_.end(), lesson_epoch_);
 }
 
 void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished,
                                     const std::vector<EpisodeStats>& episodes) {
-  if (parameters_.empty()) return;
+  if (parameters_.empty()) {
+    // no curriculum: instances that just ended an episode may still change turn parameters
+    if (has_turn_parameters_)
+      for (const auto& f : finished) env_->set_parameters(f.env_index, next_parameters());
+    return;
+  }
   for (int b = 0; b < num_trainers(); ++b)
     for (float r : episodes[b].returns) parameters_.add_episode_reward(trainers_[b]->behavior(), r);
   // a metric measures the lesson it was played in: episodes begun before the last change are left
@@ -434,7 +472,7 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
   }
   // instances that just ended an episode get fresh values for their next reset
   for (const auto& f : finished) {
-    env_->set_parameters(f.env_index, parameters_.sample(parameter_rng_));
+    env_->set_parameters(f.env_index, next_parameters());
     episode_epoch_[f.env_index] = lesson_epoch_;
   }
 }

@@ -90,6 +90,9 @@ class TrainingRun {
   void reset_self_play();
   // draws every instance's parameters for its next reset
   void sample_all_parameters();
+  // the curriculum's values for one env's next episode, with the learning team's turn_parameters
+  // over them
+  Parameters next_parameters();
   // curriculum: records finished episodes, advances lessons, resets envs when a lesson asks to
   void update_curriculum(const std::vector<FinishedEpisode>& finished,
                          const std::vector<EpisodeStats>& episodes);
@@ -130,6 +133,9 @@ class TrainingRun {
   std::unique_ptr<SelfPlay> self_play_;
   EnvironmentParameterManager parameters_;  // environment_parameters: samplers and lessons
   std::mt19937_64 parameter_rng_;           // sampling at every env reset
+  bool has_turn_parameters_ = false;        // some behavior's self_play sets turn_parameters
+  Parameters turn_fallback_;  // each turn parameter's value outside those turns (env_settings'
+                              // or the env's default) unless the curriculum sets it
   std::vector<std::vector<uint8_t>> learner_rows_;  // per behavior: rows that act for learning
   TrainingStatus status_;
   int64_t boundary_index_ = 0;

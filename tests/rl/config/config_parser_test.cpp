@@ -466,6 +466,10 @@ TEST(ConfigParserErrorTest, SelfPlayErrors) {
                "behaviors.CartPole.self_play.initial_elo", 4, "expected a finite number");
   expect_error(cartpole_with("    self_play:\n      windw: 3\n"), "behaviors.CartPole.self_play", 4,
                "unknown key 'windw' (did you mean 'window'?)");
+  expect_error(cartpole_with("    self_play:\n      turn_parameters: {level: two}\n"),
+               "behaviors.CartPole.self_play.turn_parameters.level", 4, "expected a finite number");
+  expect_error(cartpole_with("    self_play:\n      turn_parameters: [1, 2]\n"),
+               "behaviors.CartPole.self_play.turn_parameters", 4, "expected a mapping");
   expect_error(cartpole_with("    self_play: true\n"), "behaviors.CartPole.self_play", 3,
                "expected a mapping, got 'true'");
   expect_error("default_settings:\n  self_play:\n    window: -1\n",
@@ -1377,6 +1381,7 @@ TEST(ConfigWriterTest, RoundTripOfSelfPlayAndCurricula) {
   self_play.team_change = 7;
   self_play.play_against_latest_model_ratio = 0.1f + 0.2f;
   self_play.initial_elo = 1000.0 / 3.0;
+  self_play.turn_parameters = {{"big_wall_height", 0.1f}, {"goal_size", 2.f}};
   config.behaviors.at("BigWallJump").self_play = self_play;
   // A one-lesson curriculum is not a plain sampler; a lesson named like its parameter neither.
   Lesson only;

@@ -109,6 +109,49 @@ class LessonEchoEnv : public Env {
   int t_ = 0;
 };
 
+// Two behaviors, Red and Blue, one agent each, in episodes of 4 steps that report the value of
+// parameter x they were played with: which setting each self-play turn used.
+class TurnEchoEnv : public Env {
+ public:
+  TurnEchoEnv() {
+    spec_.name = "TurnEchoEnv";
+    spec_.max_episode_steps = 4;
+    for (const char* name : {"Blue", "Red"}) {
+      BehaviorSpec b;
+      b.name = name;
+      b.observations.push_back({"t", {1}, ObservationKind::kVector, 0.f, 1.f});
+      b.action.discrete_branches = {2};
+      spec_.behaviors.push_back(b);
+    }
+    spec_.default_parameters = {{"x", 0.f}};
+  }
+  const EnvSpec& spec() const override { return spec_; }
+  void seed(uint64_t) override {}
+  void reset(StepView& out) override {
+    t_ = 0;
+    played_x_ = parameter("x");
+    write(out, StepType::kFirst);
+  }
+  void step(StepView& io) override {
+    ++t_;
+    write(io, t_ >= spec_.max_episode_steps ? StepType::kLast : StepType::kMid);
+  }
+  EpisodeMetrics episode_metrics() const override { return {{"x", played_x_}}; }
+
+ private:
+  void write(StepView& v, StepType type) {
+    for (int b = 0; b < 2; ++b) {
+      v[b].step_type(0) = type;
+      v[b].agent_id(0) = 0;
+      v[b].reward(0) = 0.f;
+      v[b].observation(0)[0] = float(t_) / spec_.max_episode_steps;
+    }
+  }
+  EnvSpec spec_;
+  int t_ = 0;
+  float played_x_ = 0.f;
+};
+
 class TrainingRunTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -116,6 +159,9 @@ class TrainingRunTest : public ::testing::Test {
     if (!EnvRegistry::instance().contains("LessonEchoEnv"))
       EnvRegistry::instance().add(
           "LessonEchoEnv", [](const Parameters&) { return std::make_unique<LessonEchoEnv>(); });
+    if (!EnvRegistry::instance().contains("TurnEchoEnv"))
+      EnvRegistry::instance().add("TurnEchoEnv",
+                                  [](const Parameters&) { return std::make_unique<TurnEchoEnv>(); });
     if (!EnvRegistry::instance().contains("BadNumberEnv"))
       EnvRegistry::instance().add("BadNumberEnv", [](const Parameters&) { return std::make_unique<BadNumberEnv>(); });
     dir_ = fs::temp_directory_path() / ("rlt_training_run_test_" + std::to_string(::getpid()));
@@ -548,6 +594,61 @@ TEST_F(TrainingRunTest, UnknownBehaviorOrParameterIsAnErrorBeforeWriting) {
     EXPECT_NE(std::string(e.what()).find("--param offset"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
+// Red and Blue take turns; Blue's turns play with x = 7, Red's with env_settings' x = 2
+RunConfig turn_config(const std::string& blue_turn) {
+  std::ostringstream y;
+  y << "default_settings:\n"
+    << "  trainer_type: ppo\n"
+    << "  hyperparameters: {batch_size: 32, buffer_size: 128, num_epoch: 1}\n"
+    << "  network_settings: {hidden_units: 8, num_layers: 1}\n"
+    << "  time_horizon: 16\n  max_steps: 1200\n  summary_freq: 100000\n  checkpoint_interval: 100000\n"
+    << "  self_play: {save_steps: 100, team_change: 300, swap_steps: 50, window: 2}\n"
+    << "behaviors:\n  Red: {}\n"
+    << "  Blue:\n    self_play: {save_steps: 100, team_change: 300, swap_steps: 50, window: 2,\n"
+    << "                turn_parameters: {" << blue_turn << "}}\n"
+    << "env_settings: {env_id: TurnEchoEnv, num_envs: 3, seed: 2, params: {x: 2}}\n";
+  return load_run_config_from_string(y.str(), "turns.yaml");
+}
+
+TEST_F(TrainingRunTest, TurnParametersHoldWhileTheirBehaviorLearns) {
+  auto opt = options("turns");
+  TrainingRun* running = nullptr;
+  std::map<std::string, std::map<float, int>> x_by_learner;  // learning team at the end -> x -> episodes
+  opt.on_env_episode = [&](const EpisodeMetrics& m) {
+    const std::string team = running->self_play().learning_team_name();
+    ++x_by_learner[team.substr(0, team.find(':'))][m.at("x")];
+  };
+  TrainingRun run(turn_config("x: 7"), opt);
+  running = &run;
+  run.train();
+  EXPECT_EQ(run.trainer(0).step() >= 1200 && run.trainer(1).step() >= 1200, true);
+  // a turn's episodes play its setting; only those begun before a change (at most one per
+  // instance and change, four changes in 2400 steps of turns of 300) end in the other turn
+  auto& blue = x_by_learner["Blue"];
+  auto& red = x_by_learner["Red"];
+  EXPECT_GT(blue[7.f], 100);
+  EXPECT_GT(red[2.f], 100);
+  EXPECT_LE(blue[2.f] + red[7.f], 3 * 8);
+  EXPECT_EQ(blue.size() + red.size(), 4u) << "x took values other than 2 and 7";
+}
+
+TEST_F(TrainingRunTest, BadTurnParametersAreErrorsBeforeWriting) {
+  auto expect_error = [&](const RunConfig& config, const TrainOptions& opt, const std::string& says) {
+    try {
+      TrainingRun run(config, opt);
+      ADD_FAILURE() << "accepted; expected an error saying " << says;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(dir_ / "bad_turn"));
+  };
+  expect_error(turn_config("y: 1"), options("bad_turn"),
+               "behaviors.Blue.self_play.turn_parameters: environment 'TurnEchoEnv' has no parameter 'y'");
+  auto opt = options("bad_turn");
+  opt.params["x"] = 1.f;
+  expect_error(turn_config("x: 7"), opt, "--param x: turns.yaml sets it in behaviors.Blue.self_play.turn_parameters");
 }
 
 // a bad number at decision `at` of kind `what` stops training; earlier checkpoints stay loadable
