@@ -103,7 +103,6 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   // parameters first, then the first lessons, before anything is written
   for (const auto& [name, b] : config_.behaviors) {
     if (!b.self_play || b.self_play->turn_parameters.empty()) continue;
-    has_turn_parameters_ = true;
     Parameters turn = parameters_.sample(uint64_t(0));
     for (const auto& [key, value] : b.self_play->turn_parameters) turn[key] = value;
     try {
@@ -436,7 +435,7 @@ Parameters TrainingRun::next_parameters() {
 }
 
 void TrainingRun::sample_all_parameters() {
-  if (parameters_.empty() && !has_turn_parameters_) return;
+  if (parameters_.empty() && turn_fallback_.empty()) return;
   for (int i = 0; i < env_->num_envs(); ++i) env_->set_parameters(i, next_parameters());
   std::fill(episode_epoch_.begin(), episode_epoch_.end(), lesson_epoch_);
 }
@@ -445,7 +444,7 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
                                     const std::vector<EpisodeStats>& episodes) {
   if (parameters_.empty()) {
     // no curriculum: instances that just ended an episode may still change turn parameters
-    if (has_turn_parameters_)
+    if (!turn_fallback_.empty())
       for (const auto& f : finished) env_->set_parameters(f.env_index, next_parameters());
     return;
   }

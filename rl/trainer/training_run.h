@@ -133,9 +133,9 @@ class TrainingRun {
   std::unique_ptr<SelfPlay> self_play_;
   EnvironmentParameterManager parameters_;  // environment_parameters: samplers and lessons
   std::mt19937_64 parameter_rng_;           // sampling at every env reset
-  bool has_turn_parameters_ = false;        // some behavior's self_play sets turn_parameters
   Parameters turn_fallback_;  // each turn parameter's value outside those turns (env_settings'
-                              // or the env's default) unless the curriculum sets it
+                              // or the env's default) unless the curriculum sets it; empty when
+                              // no behavior sets turn_parameters
   std::vector<std::vector<uint8_t>> learner_rows_;  // per behavior: rows that act for learning
   TrainingStatus status_;
   int64_t boundary_index_ = 0;
