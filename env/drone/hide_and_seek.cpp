@@ -62,6 +62,10 @@ struct HideAndSeek::Settings {
   float reach_shaping = 0.0f;  // mode 2: share held for a hider near that prop
   float cover_shaping = 0.0f;  // mode 2: share held for an unlocked prop covering the opening
   float shaping_range = 5.0f;  // m: nearness is 1 - distance / shaping_range, 0 beyond
+  // 0 (the paper): every hider is paid the close reward of every opening; 1 (own): hider h only
+  // that of its own opening, h mod the open ones (the one its objects observation lists first),
+  // and every hider that of an opening no hider owns
+  int close_credit = 0;
   float fort_reward = 0.0f;    // per opening closed when the prep phase ends, to every hider
   float unlock_cost = 0.0f;    // taken from a hider per prop it unlocks
   float tagged_reward = -1.0f;
@@ -137,6 +141,7 @@ HideAndSeek::HideAndSeek()
       {"reach_shaping", 0.f},
       {"cover_shaping", 0.f},
       {"shaping_range", 5.f},
+      {"close_credit", 0.f},
       {"fort_reward", 0.f},
       {"unlock_cost", 0.f},
       {"tagged_reward", -1.f},
@@ -257,6 +262,7 @@ void HideAndSeek::build_episode() {
         "(a closed opening holds 1), got " +
         std::to_string(s.prop_shaping + s.reach_shaping + s.cover_shaping));
   s.shaping_range = drone::float_parameter(*this, "shaping_range", 0.1f, 50.0f);
+  s.close_credit = drone::int_parameter(*this, "close_credit", 0, 1);
   s.tagged_reward = parameter("tagged_reward");
   s.seen_reward = parameter("seen_reward");
   s.unseen_reward = parameter("unseen_reward");
@@ -646,18 +652,23 @@ void HideAndSeek::run_frame(StepView& io) {
   last_all_hidden_ = all_hidden;
 }
 
-float HideAndSeek::opening_potential(const std::array<bool, kNumOpenings>& closed) const {
+HideAndSeek::Potential HideAndSeek::opening_potential(
+    const std::array<bool, kNumOpenings>& closed) const {
   // one per closed opening; with mode 2, for an open opening, prop_shaping times how near the
   // nearest prop is, reach_shaping times how near the nearest hider is to that prop and
   // cover_shaping times how much of it an unlocked prop covers
   const Settings& s = *settings_;
   const auto nearness = [&](float d) { return std::max(0.0f, 1.0f - d / s.shaping_range); };
-  float potential = 0.0f;
+  Potential potential;
+  const auto hold = [&](int o, float share) {
+    potential.total += share;
+    potential.of_opening[o] += share;
+  };
   for (int o = 0; o < kNumOpenings; ++o) {
     const drone::Opening& opening = arena_->openings()[o];
     if (!opening.open) continue;
     if (closed[o]) {
-      potential += 1.0f;
+      hold(o, 1.0f);
       continue;
     }
     if (s.close_reward_mode != 2) continue;
@@ -671,7 +682,7 @@ float HideAndSeek::opening_potential(const std::array<bool, kNumOpenings>& close
       if (d < nearest) nearest = d, nearest_prop = i;
     }
     if (nearest_prop < 0) continue;
-    potential += s.prop_shaping * nearness(nearest);
+    hold(o, s.prop_shaping * nearness(nearest));
     if (s.cover_shaping != 0.0f) {
       // the unlocked prop covering most of it, full once locking it would close the opening
       float cover = 0.0f;
@@ -680,7 +691,7 @@ float HideAndSeek::opening_potential(const std::array<bool, kNumOpenings>& close
         if (prop.locked() || (prop.position() - opening.centre).length() > kCoverReach) continue;
         cover = std::max(cover, drone::covered_fraction(opening, *prop.body));
       }
-      potential += s.cover_shaping * std::min(1.0f, cover / kClosedCover);
+      hold(o, s.cover_shaping * std::min(1.0f, cover / kClosedCover));
     }
     if (s.reach_shaping == 0.0f) continue;
     const btVector3 prop = (*props_)[nearest_prop].position();
@@ -689,7 +700,7 @@ float HideAndSeek::opening_potential(const std::array<bool, kNumOpenings>& close
       const Agent& a = agent(kHider, h);
       if (a.present) hider = std::min(hider, (a.drone->position() - prop).length());
     }
-    potential += s.reach_shaping * nearness(hider);
+    hold(o, s.reach_shaping * nearness(hider));
   }
   return potential;
 }
@@ -701,16 +712,22 @@ void HideAndSeek::check_openings(StepView& io) {
   std::array<bool, kNumOpenings> closed{};
   for (int o = 0; o < kNumOpenings; ++o)
     if (s.close_reward_mode != 0 || !ever_closed_[o]) closed[o] = opening_closed(o);
-  float reward = 0.0f;
+  float reward = 0.0f;  // the team's close reward this decision
+  std::array<float, kNumOpenings> of_opening{};  // its part for each opening
   if (s.close_reward_mode == 0) {
     // the paper: paid the first time an opening becomes closed
-    for (int o = 0; o < kNumOpenings; ++o)
-      if (!ever_closed_[o] && closed[o]) reward += s.close_reward;
+    for (int o = 0; o < kNumOpenings; ++o) {
+      if (ever_closed_[o] || !closed[o]) continue;
+      reward += s.close_reward;
+      of_opening[o] = s.close_reward;
+    }
   } else {
     // held (and shaped): the change of a potential, so that reopening costs at once and going
     // back and forth gains nothing
-    const float potential = opening_potential(closed);
-    reward = s.close_reward * (potential - potential_);
+    const Potential potential = opening_potential(closed);
+    reward = s.close_reward * (potential.total - potential_.total);
+    for (int o = 0; o < kNumOpenings; ++o)
+      of_opening[o] = s.close_reward * (potential.of_opening[o] - potential_.of_opening[o]);
     potential_ = potential;
   }
   for (int o = 0; o < kNumOpenings; ++o) {
@@ -718,9 +735,19 @@ void HideAndSeek::check_openings(StepView& io) {
     ever_closed_[o] = true;
     record_event("closed", nullptr, nullptr, o);
   }
-  if (s.reward_preset != 0 || reward == 0.0f) return;
-  for (int h = 0; h < kMaxHiders; ++h)
-    if (agent(kHider, h).present) io[kHider].reward(h) += reward;
+  if (s.reward_preset != 0) return;
+  const int num_open = arena_->num_open();
+  for (int h = 0; h < kMaxHiders; ++h) {
+    if (!agent(kHider, h).present) continue;
+    float paid = reward;
+    if (s.close_credit == 1) {
+      // opening o is owned by the hiders with h mod num_open = o, if there are any
+      paid = 0.0f;
+      for (int o = 0; o < num_open; ++o)
+        if (o >= num_agents_[kHider] || h % num_open == o) paid += of_opening[o];
+    }
+    if (paid != 0.0f) io[kHider].reward(h) += paid;
+  }
 }
 
 void HideAndSeek::pay_baker_rewards(StepView& io) {

@@ -65,7 +65,11 @@
 //     nearness is 1 - distance / shaping_range (5 m), 0 beyond. Potential-based shaping (Ng,
 //     Harada and Russell 1999): it pays for each link of the chain reach, drag, cover, lock and
 //     takes it back when undone; prop_shaping + reach_shaping + cover_shaping is at most 1, what
-//     a closed opening holds.
+//     a closed opening holds. With `close_credit` 1 (own; 0, the default, is the paper's team
+//     reward) hider h is paid only the close reward of its own opening, h mod the number of open
+//     ones (the one its objects observation lists first), and every hider that of an opening no
+//     hider owns: at level 2 each of two hiders answers for one doorway, at level 1 both for the
+//     one.
 //     + fort_reward (0) per opening closed when the prep phase ends (the fort the seekers meet:
 //     the close reward pays the closing, this the keeping; a quick unlock and relock pays again).
 //     - unlock_cost (0) from a hider for every prop it unlocks: the held close reward refunds an
@@ -214,7 +218,11 @@ class HideAndSeek : public Env {
   // from its centre to the nearest prop's, e from that prop's to the nearest hider's, c the
   // largest share an unlocked prop covers and n(x) = max(0, 1 - x / shaping_range)
   // (`closed`: opening_closed of each opening, computed once by the caller)
-  float opening_potential(const std::array<bool, drone::kNumOpenings>& closed) const;
+  struct Potential {
+    float total = 0.0f;                                  // summed as it is built
+    std::array<float, drone::kNumOpenings> of_opening{};  // each opening's part
+  };
+  Potential opening_potential(const std::array<bool, drone::kNumOpenings>& closed) const;
   void pay_baker_rewards(StepView& io);
   void write_observation(BehaviorView& view, const Agent& agent);
   void write_objects(float* out, const Agent& agent) const;  // out: [kObjectsSize]
@@ -253,9 +261,9 @@ class HideAndSeek : public Env {
   long prep_frames_ = 0;
   bool over_ = false;
   std::array<bool, drone::kNumOpenings> ever_closed_{};
-  float potential_ = 0.0f;
+  Potential potential_;  // close_reward_mode 1-2: opening_potential() at the last decision
   float episode_offset_ = 1.0f;  // the props' start offset this episode (1 at levels 3-4)
-  std::array<bool, drone::kNumOpenings> closed_now_{};  // for "objects", at update_sensor_scene  // close_reward_mode 1-2: opening_potential() at the last decision
+  std::array<bool, drone::kNumOpenings> closed_now_{};  // for "objects", at update_sensor_scene
 
   // metrics
   int tagged_ = 0;

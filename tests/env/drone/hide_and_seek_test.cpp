@@ -93,6 +93,7 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"hider_outside_chance", -0.5f},
                                                   {"prop_start_offset", 1.1f},
                                                   {"close_reward_mode", 3.f},
+                                                  {"close_credit", 2.f},
                                                   {"prop_shaping", 1.5f},
                                                   {"reach_shaping", -0.1f},
                                                   {"reach_shaping", 0.6f},  // + 0.5 > 1
@@ -774,6 +775,48 @@ TEST(HideAndSeekTest, CoverShapingPaysForAPropCoveringTheDoorway) {
   g.harness.step();
   ASSERT_TRUE(g.env.opening_closed(0));
   EXPECT_NEAR(g.hiders().reward[0], 0.5f, 1e-4f);
+}
+
+// close_credit 1: each hider is paid the close reward of its own opening (hider h: h mod the open
+// ones); 0, the paper's, pays every hider the whole team's
+TEST(HideAndSeekTest, OwnCloseCreditPaysEachHiderForItsOwnOpening) {
+  // level 2, the props standing in their doorways; hider 0 locks the prop in doorway 1
+  struct Paid {
+    float hider0, hider1;
+  };
+  const auto lock_doorway_1 = [](float level, float credit) {
+    Game g({{"level", level},
+            {"prop_start_offset", 0.f},
+            {"close_reward", 0.5f},
+            {"close_reward_mode", 2.f},
+            {"close_credit", credit}},
+           3);
+    g.idle_step();
+    const int door = int(level) - 1;
+    const btVector3 n = g.env.arena().openings()[door].normal;
+    auto& hider = *g.env.agent(HideAndSeek::kHider, 0).drone;
+    btTransform pose = hider.body().getWorldTransform();
+    pose.setOrigin(g.env.props()[door].position() - n * 1.0f + btVector3(0, 0.2f, 0));
+    pose.setRotation(btQuaternion(btVector3(0, 1, 0), std::atan2(n.x(), n.z())));
+    hider.body().setWorldTransform(pose);
+    EXPECT_EQ(g.env.props().lock(hider, HideAndSeek::kHider), door);
+    g.idle_step();
+    EXPECT_TRUE(g.env.opening_closed(door));
+    return Paid{g.hiders().reward[0], g.hiders().reward[1]};
+  };
+  const Paid team = lock_doorway_1(2.f, 0.f), own = lock_doorway_1(2.f, 1.f);
+  EXPECT_GT(team.hider0, 0.2f);  // the rest of doorway 1's share, 0.5 x (1 - prop nearness / 2)
+  EXPECT_FLOAT_EQ(team.hider1, team.hider0);
+  // the same world, the team's reward split: doorway 1's part to hider 1, doorway 0's (its prop
+  // only settling) to hider 0
+  EXPECT_NEAR(own.hider0 + own.hider1, team.hider0, 1e-5f);
+  EXPECT_NEAR(own.hider0, 0.0f, 1e-3f);
+  // level 1: the one doorway is both hiders' own
+  const Paid one_team = lock_doorway_1(1.f, 0.f), one_own = lock_doorway_1(1.f, 1.f);
+  EXPECT_GT(one_own.hider0, 0.2f);
+  EXPECT_FLOAT_EQ(one_own.hider0, one_team.hider0);
+  EXPECT_FLOAT_EQ(one_own.hider1, one_team.hider1);
+  EXPECT_FLOAT_EQ(one_own.hider1, one_own.hider0);
 }
 
 TEST(HideAndSeekTest, ReachShapingPaysForAHiderComingNearTheProp) {
