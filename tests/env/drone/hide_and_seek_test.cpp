@@ -780,11 +780,12 @@ TEST(HideAndSeekTest, CoverShapingPaysForAPropCoveringTheDoorway) {
 // close_credit 1: each hider is paid the close reward of its own opening (hider h: h mod the open
 // ones); 0, the paper's, pays every hider the whole team's
 TEST(HideAndSeekTest, OwnCloseCreditPaysEachHiderForItsOwnOpening) {
-  // level 2, the props standing in their doorways; hider 0 locks the prop in doorway 1
+  // the props standing in their doorways; hider 0 locks the prop in the level's last doorway
+  // (level 2: doorway 1, hider 1's own; level 1: doorway 0, both hiders' own)
   struct Paid {
     float hider0, hider1;
   };
-  const auto lock_doorway_1 = [](float level, float credit) {
+  const auto lock_last_doorway = [](float level, float credit) {
     Game g({{"level", level},
             {"prop_start_offset", 0.f},
             {"close_reward", 0.5f},
@@ -804,7 +805,7 @@ TEST(HideAndSeekTest, OwnCloseCreditPaysEachHiderForItsOwnOpening) {
     EXPECT_TRUE(g.env.opening_closed(door));
     return Paid{g.hiders().reward[0], g.hiders().reward[1]};
   };
-  const Paid team = lock_doorway_1(2.f, 0.f), own = lock_doorway_1(2.f, 1.f);
+  const Paid team = lock_last_doorway(2.f, 0.f), own = lock_last_doorway(2.f, 1.f);
   EXPECT_GT(team.hider0, 0.2f);  // the rest of doorway 1's share, 0.5 x (1 - prop nearness / 2)
   EXPECT_FLOAT_EQ(team.hider1, team.hider0);
   // the same world, the team's reward split: doorway 1's part to hider 1, doorway 0's (its prop
@@ -812,7 +813,7 @@ TEST(HideAndSeekTest, OwnCloseCreditPaysEachHiderForItsOwnOpening) {
   EXPECT_NEAR(own.hider0 + own.hider1, team.hider0, 1e-5f);
   EXPECT_NEAR(own.hider0, 0.0f, 1e-3f);
   // level 1: the one doorway is both hiders' own
-  const Paid one_team = lock_doorway_1(1.f, 0.f), one_own = lock_doorway_1(1.f, 1.f);
+  const Paid one_team = lock_last_doorway(1.f, 0.f), one_own = lock_last_doorway(1.f, 1.f);
   EXPECT_GT(one_own.hider0, 0.2f);
   EXPECT_FLOAT_EQ(one_own.hider0, one_team.hider0);
   EXPECT_FLOAT_EQ(one_own.hider1, one_team.hider1);
