@@ -80,6 +80,9 @@ struct HideAndSeek::Settings {
   float hider_outside_chance = 0.0f;  // chance that a hider starts just outside the room
   float prop_start_offset = 1.0f;     // levels 1-2: 0 = props start in the doorways, 1 = own place
   float prop_start_spread = 0.0f;     // chance that an episode's offset is uniform in [0, offset]
+  // level 2: 0 = prop i gets the i-th own place drawn; 1 = the places go to the props so that the
+  // ways from doorway i to prop i are least in total (paired_level2_starts)
+  int prop_pairing = 0;
   bool prop_cues = true;  // vector [18, 20) and the hiders' masks say what prop actions would do
   bool object_obs = true;  // the "objects" observation (else zeros)
   bool sensor_obs = true;  // the rays and both grids (else zeros)
@@ -156,6 +159,7 @@ HideAndSeek::HideAndSeek()
       {"hider_outside_chance", -1.f},
       {"prop_start_offset", 1.f},
       {"prop_start_spread", 0.f},
+      {"prop_pairing", 0.f},
       {"prop_cues", 1.f},
       {"object_obs", 1.f},
       {"sensor_obs", 1.f},
@@ -241,6 +245,44 @@ class SpawnPlanner {
 
 }  // namespace
 
+std::vector<btVector3> HideAndSeek::paired_level2_starts(float offset, float prop_y) {
+  // the same places as prop_pairing 0 (in the room, at least 2.5 m from every opening, the props'
+  // start spots clear of each other), drawn for both props before either is given one; the
+  // panels are alike and their yaws are drawn afterwards, so the pairing changes which prop the
+  // objects observation calls each hider's own, not the world the hiders start in
+  const auto& openings = arena_->openings();
+  const float inner = arena_->params().room_half - 0.5f * arena_->params().wall_thickness;
+  const auto in_doorway = [&](int i) {
+    const btVector3 p = openings[i].centre - openings[i].normal * kInDoorway;
+    return btVector3(p.x(), prop_y, p.z());
+  };
+  const auto far_place = [&] {
+    for (int attempt = 0;; ++attempt) {
+      const btVector3 p(uniform(engine_, -inner + 1.0, inner - 1.0), prop_y,
+                        uniform(engine_, -inner + 1.0, inner - 1.0));
+      bool far = true;
+      for (const auto& o : openings) {
+        const btVector3 d = p - o.centre;
+        far = far && (d.x() * d.x() + d.z() * d.z() >= 2.5f * 2.5f);
+      }
+      if (far) return p;
+      if (attempt > kSpawnAttempts) throw std::runtime_error("HideAndSeek: no prop place");
+    }
+  };
+  for (int attempt = 0;; ++attempt) {
+    std::vector<btVector3> place = {far_place(), far_place()};  // [2]
+    const float kept = (place[0] - in_doorway(0)).length() + (place[1] - in_doorway(1)).length();
+    const float swapped =
+        (place[1] - in_doorway(0)).length() + (place[0] - in_doorway(1)).length();
+    if (swapped < kept) std::swap(place[0], place[1]);
+    std::vector<btVector3> start(2);  // [2] prop i: offset of the way from doorway i to its place
+    for (int i = 0; i < 2; ++i)
+      start[i] = offset < 1.0f ? in_doorway(i) + offset * (place[i] - in_doorway(i)) : place[i];
+    if ((start[0] - start[1]).length() > 2 * kPropFootprint) return start;
+    if (attempt > kSpawnAttempts) throw std::runtime_error("HideAndSeek: no prop place");
+  }
+}
+
 void HideAndSeek::build_episode() {
   Settings& s = *settings_;
   level_ = drone::int_parameter(*this, "level", drone::kMinLevel, drone::kMaxLevel);
@@ -274,6 +316,7 @@ void HideAndSeek::build_episode() {
   s.vision_cone = drone::float_parameter(*this, "vision_cone", 1.0f, 360.0f);
   s.prop_start_offset = drone::float_parameter(*this, "prop_start_offset", 0.0f, 1.0f);
   s.prop_start_spread = drone::float_parameter(*this, "prop_start_spread", 0.0f, 1.0f);
+  s.prop_pairing = drone::int_parameter(*this, "prop_pairing", 0, 1);
   s.prop_cues = drone::int_parameter(*this, "prop_cues", 0, 1) == 1;
   s.object_obs = drone::int_parameter(*this, "object_obs", 0, 1) == 1;
   s.sensor_obs = drone::int_parameter(*this, "sensor_obs", 0, 1) == 1;
@@ -337,9 +380,16 @@ void HideAndSeek::build_episode() {
     props_->add(btVector3(p.x(), prop_y, p.z()), 0.0f);
     planner.take(p.x(), p.z(), kPropFootprint);
   } else {
+    // prop_pairing 1, level 2: both own places are drawn first and then given to the props so
+    // that the ways from each doorway to its prop's place are least in total
+    std::vector<btVector3> paired;
+    if (level_ == 2 && s.prop_pairing == 1) paired = paired_level2_starts(offset, prop_y);
     for (int i = 0; i < num_props; ++i) {
       btVector3 p;
-      if (level_ == 2) {
+      if (!paired.empty()) {
+        p = paired[i];
+        planner.take(p.x(), p.z(), kPropFootprint);
+      } else if (level_ == 2) {
         // in the room, at least 2.5 m from every opening
         for (int attempt = 0;; ++attempt) {
           p = btVector3(uniform(engine_, -inner + 1.0, inner - 1.0), prop_y,

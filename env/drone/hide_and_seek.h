@@ -36,7 +36,10 @@
 // a curriculum that teaches locking before dragging (level 2: the prop's yaw turns the same
 // fraction of the way from parallel to the wall to its random yaw); with chance
 // `prop_start_spread` (default 0) an episode's offset is drawn uniformly from [0, t] instead, so
-// that easier starts stay in the mix while the rest start at t; the shelter strategy counts
+// that easier starts stay in the mix while the rest start at t; with `prop_pairing` 1 (default
+// 0) the two level-2 start places are drawn first and prop i gets the one that keeps the ways from
+// each doorway to its prop least in total (the panels are alike: only which is whose changes, so
+// hider h's own prop is never the one across the room); the shelter strategy counts
 // only episodes whose props started at their own places (metric prop_start_offset 1: t = 1, or
 // level 3 or 4, where the parameter does nothing). Obstacles (level 3: 3, level 4: 5) at random
 // free places on the floor. Every spawn keeps clear of walls and of earlier spawns.
@@ -208,6 +211,8 @@ class HideAndSeek : public Env {
  private:
   struct Settings;
   void build_episode();
+  // level 2 with prop_pairing 1: where props 0 and 1 start, given prop_start_offset `offset`
+  std::vector<btVector3> paired_level2_starts(float offset, float prop_y);
   // true when the agent unlocked a prop
   bool apply_grab_and_lock(Agent& agent, const int* discrete);
   void run_frame(StepView& io);

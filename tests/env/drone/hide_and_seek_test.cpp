@@ -101,6 +101,7 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"prop_cues", 2.f},
                                                   {"object_obs", -1.f},
                                                   {"prop_start_spread", 1.5f},
+                                                  {"prop_pairing", 0.5f},
                                                   {"unlock_cost", -0.1f},
                                                   {"cover_shaping", 0.6f},  // + 0.5 > 1
                                                   {"fort_reward", NAN}}) {
@@ -237,6 +238,45 @@ TEST(HideAndSeekTest, PropStartSpreadMixesEasierStartsIn) {
     once_more.harness.reset();
     ASSERT_EQ(again.env.props()[1].position(), once_more.env.props()[1].position());
   }
+}
+
+// prop_pairing 1 (level 2): the two own places go to the props so that the ways from doorway i to
+// prop i are least in total, so a hider's own prop (its objects observation's first) is never
+// the one across the room; 0 gives prop i the i-th place drawn, crossed about half the time
+TEST(HideAndSeekTest, PropPairingGivesEachDoorwayTheNearerPlace) {
+  const auto way = [](Game& g, int prop, int door) {
+    const btVector3 p = g.env.props()[prop].position();
+    const btVector3 c = g.env.arena().openings()[door].centre;
+    return std::hypot(p.x() - c.x(), p.z() - c.z());
+  };
+  const auto crossed = [&](Game& g) {
+    return way(g, 1, 0) + way(g, 0, 1) < way(g, 0, 0) + way(g, 1, 1);
+  };
+  Game plain({{"level", 2.f}}, 7), paired({{"level", 2.f}, {"prop_pairing", 1.f}}, 7);
+  int crossed_plain = 0;
+  for (int episode = 0; episode < 100; ++episode) {
+    plain.harness.reset();
+    paired.harness.reset();
+    crossed_plain += crossed(plain);
+    ASSERT_FALSE(crossed(paired)) << "episode " << episode;
+    for (int i = 0; i < 2; ++i) {  // the same kind of place: at least 2.5 m from every opening
+      ASSERT_GE(way(paired, i, 0), 2.5f);
+      ASSERT_GE(way(paired, i, 1), 2.5f);
+    }
+    ASSERT_GT((paired.env.props()[0].position() - paired.env.props()[1].position()).length(),
+              1.7f);
+  }
+  EXPECT_GT(crossed_plain, 30);  // binomial(100, 0.5)
+  // the offset still moves each prop from its own doorway: at 0 both stand in theirs
+  Game in({{"level", 2.f}, {"prop_pairing", 1.f}, {"prop_start_offset", 0.f}}, 7);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(way(in, i, i), 0.35f, 0.02f);
+    EXPECT_GT(drone::covered_fraction(in.env.arena().openings()[i], *in.env.props()[i].body),
+              0.5f);
+  }
+  // level 1 has one prop and one doorway: nothing to pair, the same episodes
+  Game one({{"level", 1.f}}, 7), one_paired({{"level", 1.f}, {"prop_pairing", 1.f}}, 7);
+  EXPECT_EQ(one.env.props()[0].position(), one_paired.env.props()[0].position());
 }
 
 TEST(HideAndSeekTest, SeekersDoNotMoveInThePrepPhase) {
