@@ -1,5 +1,6 @@
 #include "env/drone/arena.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -31,25 +32,29 @@ int open_openings_at_level(int level) {
 }
 
 float covered_fraction(const Opening& opening, const btCollisionObject& body, float depth,
-                       int samples) {
+                       int samples, float fade_depth) {
+  const float reach = std::max(depth, fade_depth);  // how far inside the rays go
   const btVector3 up(0, 1, 0);
   const btVector3 across = up.cross(opening.normal);  // horizontal, along the wall
   btTransform from = btTransform::getIdentity(), to = btTransform::getIdentity();
-  int covered = 0;
+  float covered = 0.0f;
   for (int i = 0; i < samples; ++i) {
     for (int j = 0; j < samples; ++j) {
       const float u = ((i + 0.5f) / samples - 0.5f) * opening.width;
       const float v = ((j + 0.5f) / samples - 0.5f) * opening.height;
       const btVector3 p = opening.centre + across * u + up * v;
       from.setOrigin(p + opening.normal * depth);
-      to.setOrigin(p - opening.normal * depth);
+      to.setOrigin(p - opening.normal * reach);
       btCollisionWorld::ClosestRayResultCallback ray(from.getOrigin(), to.getOrigin());
       btCollisionWorld::rayTestSingle(from, to, const_cast<btCollisionObject*>(&body),
                                       body.getCollisionShape(), body.getWorldTransform(), ray);
-      covered += ray.hasHit();
+      if (!ray.hasHit()) continue;
+      // how far inside the wall's centre plane the body's face is where the ray meets it
+      const float inside = ray.m_closestHitFraction * (depth + reach) - depth;
+      covered += inside <= depth ? 1.0f : (reach - inside) / (reach - depth);
     }
   }
-  return static_cast<float>(covered) / (samples * samples);
+  return covered / static_cast<float>(samples * samples);
 }
 
 Arena::Arena(BulletWorld& world, const ArenaParams& params) : world_(world), params_(params) {

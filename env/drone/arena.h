@@ -60,8 +60,10 @@ int open_openings_at_level(int level);
 // sampled on a samples x samples grid of cell centres, and a sample counts as covered when a ray
 // along the normal from `depth` outside the wall plane to `depth` inside hits the body. An opening
 // counts as closed (SPEC section 6) when a locked prop covers most of it, e.g. a fraction > 0.5.
+// With fade_depth > depth (a graded share, for shaping) the rays go fade_depth inside, and a
+// sample whose hit lies deeper inside than depth counts less, linearly down to 0 at fade_depth.
 float covered_fraction(const Opening& opening, const btCollisionObject& body, float depth = 0.5f,
-                       int samples = 8);
+                       int samples = 8, float fade_depth = 0.0f);
 
 class Arena {
  public:

@@ -20,8 +20,10 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 constexpr float kSpawnHeight = 1.0f;  // drones start at this height (m)
 constexpr int kSpawnAttempts = 2000;
-constexpr float kClosedCover = 0.5f;  // an opening is closed when more than half is covered
-constexpr float kCoverReach = 2.0f;   // m: a prop centred farther from an opening cannot cover it
+constexpr float kClosedCover = 0.5f;   // an opening is closed when more than half is covered
+constexpr float kCoverReach = 2.0f;    // m: a prop centred farther from an opening cannot cover it
+constexpr float kClosingDepth = 0.5f;  // m either side of the wall plane: the closing test
+constexpr int kCoverSamples = 8;       // per side of the closing test's grid of rays
 
 // a prop standing in a doorway: its centre this far inside the wall's centre plane (the panel,
 // 0.2 m thick, clears the wall's inner face and covers the doorway for covered_fraction)
@@ -62,6 +64,9 @@ struct HideAndSeek::Settings {
   float reach_shaping = 0.0f;  // mode 2: share held for a hider near that prop
   float cover_shaping = 0.0f;  // mode 2: share held for an unlocked prop covering the opening
   float shaping_range = 5.0f;  // m: nearness is 1 - distance / shaping_range, 0 beyond
+  // m inside the wall's centre plane: a panel lined up behind an opening holds up to half the
+  // cover share, graded from the closing test's 0.5 m (in full) down to 0 this deep; 0.5 = none
+  float cover_depth = 0.5f;
   // 0 (the paper): every hider is paid the close reward of every opening; 1 (own): hider h only
   // that of its own opening, h mod the open ones (the one its objects observation lists first),
   // and every hider that of an opening no hider owns
@@ -144,6 +149,7 @@ HideAndSeek::HideAndSeek()
       {"reach_shaping", 0.f},
       {"cover_shaping", 0.f},
       {"shaping_range", 5.f},
+      {"cover_depth", 0.5f},
       {"close_credit", 0.f},
       {"fort_reward", 0.f},
       {"unlock_cost", 0.f},
@@ -303,6 +309,7 @@ void HideAndSeek::build_episode() {
         "HideAndSeek: parameters prop_shaping + reach_shaping + cover_shaping must be at most 1 "
         "(a closed opening holds 1), got " +
         std::to_string(s.prop_shaping + s.reach_shaping + s.cover_shaping));
+  s.cover_depth = drone::float_parameter(*this, "cover_depth", 0.5f, 3.0f);
   s.shaping_range = drone::float_parameter(*this, "shaping_range", 0.1f, 50.0f);
   s.close_credit = drone::int_parameter(*this, "close_credit", 0, 1);
   s.tagged_reward = parameter("tagged_reward");
@@ -592,7 +599,8 @@ bool HideAndSeek::opening_closed(int o) const {
     if (!prop.locked()) continue;
     const btVector3 d = prop.position() - opening.centre;
     if (d.length() > kCoverReach) continue;  // too far to cover it
-    if (drone::covered_fraction(opening, *prop.body) > kClosedCover) return true;
+    if (drone::covered_fraction(opening, *prop.body, kClosingDepth, kCoverSamples) > kClosedCover)
+      return true;
   }
   return false;
 }
@@ -734,14 +742,20 @@ HideAndSeek::Potential HideAndSeek::opening_potential(
     if (nearest_prop < 0) continue;
     hold(o, s.prop_shaping * nearness(nearest));
     if (s.cover_shaping != 0.0f) {
-      // the unlocked prop covering most of it, full once locking it would close the opening
-      float cover = 0.0f;
+      // the unlocked prop covering most of it, full once locking it would close the opening;
+      // with cover_depth past the closing test's depth, up to half for one lined up behind it
+      // (the graded share: full within the closing depth, fading to 0 at cover_depth)
+      float cover = 0.0f, behind = 0.0f;
       for (int i = 0; i < props_->size() && cover < kClosedCover; ++i) {
         const drone::Prop& prop = (*props_)[i];
         if (prop.locked() || (prop.position() - opening.centre).length() > kCoverReach) continue;
-        cover = std::max(cover, drone::covered_fraction(opening, *prop.body));
+        cover = std::max(
+            cover, drone::covered_fraction(opening, *prop.body, kClosingDepth, kCoverSamples));
+        if (s.cover_depth > kClosingDepth)
+          behind = std::max(behind, drone::covered_fraction(opening, *prop.body, kClosingDepth,
+                                                            kCoverSamples, s.cover_depth));
       }
-      hold(o, s.cover_shaping * std::min(1.0f, cover / kClosedCover));
+      hold(o, s.cover_shaping * std::max(std::min(1.0f, cover / kClosedCover), 0.5f * behind));
     }
     if (s.reach_shaping == 0.0f) continue;
     const btVector3 prop = (*props_)[nearest_prop].position();

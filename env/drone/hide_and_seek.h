@@ -64,7 +64,11 @@
 //     opening that is not closed, the close reward times prop_shaping (0.5) times how near the
 //     nearest prop is to its centre, plus reach_shaping (0) times how near the nearest hider is to
 //     that prop, plus cover_shaping (0) times the largest share of the opening an unlocked prop
-//     covers, over the share that closes it (capped at 1: a prop that would close it if locked);
+//     covers, over the share that closes it (capped at 1: a prop that would close it if locked;
+//     with `cover_depth` d above its default 0.5 m, the closing test's depth, at least half the
+//     graded share of a prop lined up behind it: rays reach d inside the wall's centre plane,
+//     and a face met deeper than 0.5 m counts less, down to 0 at d, so pushing a panel up to
+//     the doorway pays on the way);
 //     nearness is 1 - distance / shaping_range (5 m), 0 beyond. Potential-based shaping (Ng,
 //     Harada and Russell 1999): it pays for each link of the chain reach, drag, cover, lock and
 //     takes it back when undone; prop_shaping + reach_shaping + cover_shaping is at most 1, what

@@ -174,6 +174,31 @@ TEST(ArenaTest, CoveredFractionOfAnOpeningByAPanel) {
   EXPECT_FLOAT_EQ(covered_fraction(window, *full), 0.0f);
 }
 
+// the graded share (fade_depth > depth): a panel whose face lies between depth and fade_depth
+// inside the wall plane counts part way, less the deeper it is; within depth it counts in full
+TEST(ArenaTest, GradedCoverFadesWithDepthBehindTheOpening) {
+  BulletWorld world;
+  Arena arena(world, at_level(2));
+  const Opening& door = arena.openings()[0];  // -z wall: inside the room is +z
+  const btVector3 panel_half(0.75f, 1.0f, 0.1f);
+  // panels parallel to the wall, their faces toward the doorway 0.3, 1.0, 1.25 and 2 m inside
+  const auto panel_at = [&](float face) {
+    return world.add_static_box(btVector3(0, 1.0f, door.centre.z() + face + 0.1f), panel_half,
+                                kProp);
+  };
+  btRigidBody* near = panel_at(0.3f);
+  btRigidBody* mid = panel_at(1.0f);
+  btRigidBody* deeper = panel_at(1.25f);
+  btRigidBody* beyond = panel_at(2.0f);
+  EXPECT_FLOAT_EQ(covered_fraction(door, *near, 0.5f, 8, 1.5f), 1.0f);
+  EXPECT_NEAR(covered_fraction(door, *mid, 0.5f, 8, 1.5f), 0.5f, 1e-3f);  // (1.5 - 1) / 1
+  EXPECT_NEAR(covered_fraction(door, *deeper, 0.5f, 8, 1.5f), 0.25f, 1e-3f);
+  EXPECT_FLOAT_EQ(covered_fraction(door, *beyond, 0.5f, 8, 1.5f), 0.0f);
+  // without a fade depth only the closing test's 0.5 m count, in full
+  EXPECT_FLOAT_EQ(covered_fraction(door, *near), 1.0f);
+  EXPECT_FLOAT_EQ(covered_fraction(door, *mid), 0.0f);
+}
+
 TEST(ArenaTest, NoFlyingOverTheRoom) {
   BulletWorld world;
   Arena arena(world, at_level(4));

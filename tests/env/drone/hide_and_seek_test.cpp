@@ -102,6 +102,7 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"object_obs", -1.f},
                                                   {"prop_start_spread", 1.5f},
                                                   {"prop_pairing", 0.5f},
+                                                  {"cover_depth", 0.4f},
                                                   {"unlock_cost", -0.1f},
                                                   {"cover_shaping", 0.6f},  // + 0.5 > 1
                                                   {"fort_reward", NAN}}) {
@@ -774,27 +775,39 @@ TEST(HideAndSeekTest, ShapedCloseRewardPaysForBringingAPropNear) {
 
 // cover_shaping: an unlocked prop pays as it comes to cover the doorway, in full once locking it
 // would close it; turned away or locked short it pays nothing
-TEST(HideAndSeekTest, CoverShapingPaysForAPropCoveringTheDoorway) {
-  Game g({{"level", 1.f},
+// level 1, one hider and one seeker, a close reward of 1 of which only the cover share (0.5)
+// shapes
+Parameters cover_shaping_game(float cover_depth) {
+  return {{"level", 1.f},
           {"num_hiders", 1.f},
           {"num_seekers", 1.f},
           {"close_reward", 1.f},
           {"close_reward_mode", 2.f},
           {"prop_shaping", 0.f},
-          {"cover_shaping", 0.5f}});
+          {"cover_shaping", 0.5f},
+          {"cover_depth", cover_depth}};
+}
+
+// puts prop 0, at rest, centred `d` metres inside doorway 0's centre, turned `yaw` from flat
+// against its wall
+void move_first_prop(Game& g, float d, float yaw) {
   const drone::Opening& door = g.env.arena().openings()[0];
   auto& prop = g.env.props()[0];
-  // the prop centred `d` metres inside the doorway's centre, turned `yaw` from flat against it
-  auto move_prop = [&](float d, float yaw) {
-    btTransform pose = prop.body->getWorldTransform();
-    btVector3 p = door.centre - door.normal * d;
-    p.setY(prop.half.y() + 0.02f);
-    pose.setOrigin(p);
-    pose.setRotation(btQuaternion(btVector3(0, 1, 0), yaw));
-    prop.body->setWorldTransform(pose);
-    prop.body->setLinearVelocity(btVector3(0, 0, 0));
-    prop.body->setAngularVelocity(btVector3(0, 0, 0));
-  };
+  btTransform pose = prop.body->getWorldTransform();
+  btVector3 p = door.centre - door.normal * d;
+  p.setY(prop.half.y() + 0.02f);
+  pose.setOrigin(p);
+  pose.setRotation(btQuaternion(btVector3(0, 1, 0), yaw));
+  prop.body->setWorldTransform(pose);
+  prop.body->setLinearVelocity(btVector3(0, 0, 0));
+  prop.body->setAngularVelocity(btVector3(0, 0, 0));
+}
+
+TEST(HideAndSeekTest, CoverShapingPaysForAPropCoveringTheDoorway) {
+  Game g(cover_shaping_game(0.5f));
+  const drone::Opening& door = g.env.arena().openings()[0];
+  auto& prop = g.env.props()[0];
+  const auto move_prop = [&](float d, float yaw) { move_first_prop(g, d, yaw); };
   move_prop(1.8f, 1.5708f);  // side on, short of the doorway: covers nothing
   g.idle_step();
   EXPECT_EQ(g.idle_step(), 0.0f);
@@ -819,6 +832,24 @@ TEST(HideAndSeekTest, CoverShapingPaysForAPropCoveringTheDoorway) {
 
 // close_credit 1: each hider is paid the close reward of its own opening (hider h: h mod the open
 // ones); 0, the paper's, pays every hider the whole team's
+// cover_depth: a flat panel behind the doorway, deeper than the closing test looks, is paid part
+// of the cover share, more the nearer it comes; the default pays nothing until it would close
+TEST(HideAndSeekTest, CoverDepthPaysForAPanelLinedUpBehindTheDoorway) {
+  const auto paid_at = [](float cover_depth, float d) {  // the shaping gained moving the panel
+    Game g(cover_shaping_game(cover_depth));
+    move_first_prop(g, d, 0.0f);  // centred d inside, flat against the wall
+    return g.idle_step();  // the prop started in its own place, where it covers nothing
+  };
+  // centred 1 m inside, its face is 0.9 m in: each ray counts (1.5 - 0.9) / (1.5 - 0.5) = 0.6, and
+  // a panel lined up behind holds half of that share: 0.5 x 0.6 x cover_shaping 0.5 = 0.15
+  EXPECT_EQ(paid_at(0.5f, 1.0f), 0.0f);
+  EXPECT_NEAR(paid_at(1.5f, 1.0f), 0.15f, 1e-3f);
+  EXPECT_NEAR(paid_at(1.5f, 1.2f), 0.10f, 1e-3f);  // face 1.1 m in: 0.4
+  EXPECT_EQ(paid_at(1.5f, 1.7f), 0.0f);             // face 1.6 m in: past cover_depth
+  EXPECT_NEAR(paid_at(1.5f, 0.25f), 0.5f, 1e-4f);  // where it would close: all of it, as before
+  EXPECT_NEAR(paid_at(0.5f, 0.25f), 0.5f, 1e-4f);
+}
+
 TEST(HideAndSeekTest, OwnCloseCreditPaysEachHiderForItsOwnOpening) {
   // the props standing in their doorways; hider 0 locks the prop in the level's last doorway
   // (level 2: doorway 1, hider 1's own; level 1: doorway 0, both hiders' own)
