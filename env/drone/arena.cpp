@@ -31,13 +31,14 @@ int open_openings_at_level(int level) {
   return level;  // 1 doorway; 2 doorways; 2 doorways + 1 window; 2 doorways + 2 windows
 }
 
-float covered_fraction(const Opening& opening, const btCollisionObject& body, float depth,
-                       int samples, float fade_depth) {
+CoverShares cover_shares(const Opening& opening, const btCollisionObject& body, float fade_depth,
+                         float depth, int samples) {
   const float reach = std::max(depth, fade_depth);  // how far inside the rays go
   const btVector3 up(0, 1, 0);
   const btVector3 across = up.cross(opening.normal);  // horizontal, along the wall
   btTransform from = btTransform::getIdentity(), to = btTransform::getIdentity();
-  float covered = 0.0f;
+  int covered = 0;
+  float graded = 0.0f;
   for (int i = 0; i < samples; ++i) {
     for (int j = 0; j < samples; ++j) {
       const float u = ((i + 0.5f) / samples - 0.5f) * opening.width;
@@ -51,10 +52,21 @@ float covered_fraction(const Opening& opening, const btCollisionObject& body, fl
       if (!ray.hasHit()) continue;
       // how far inside the wall's centre plane the body's face is where the ray meets it
       const float inside = ray.m_closestHitFraction * (depth + reach) - depth;
-      covered += inside <= depth ? 1.0f : (reach - inside) / (reach - depth);
+      if (inside <= depth) {
+        ++covered;
+        graded += 1.0f;
+      } else {
+        graded += (reach - inside) / (reach - depth);
+      }
     }
   }
-  return covered / static_cast<float>(samples * samples);
+  const float n = static_cast<float>(samples * samples);
+  return {covered / n, graded / n};
+}
+
+float covered_fraction(const Opening& opening, const btCollisionObject& body, float depth,
+                       int samples) {
+  return cover_shares(opening, body, depth, depth, samples).covered;
 }
 
 Arena::Arena(BulletWorld& world, const ArenaParams& params) : world_(world), params_(params) {

@@ -60,10 +60,19 @@ int open_openings_at_level(int level);
 // sampled on a samples x samples grid of cell centres, and a sample counts as covered when a ray
 // along the normal from `depth` outside the wall plane to `depth` inside hits the body. An opening
 // counts as closed (SPEC section 6) when a locked prop covers most of it, e.g. a fraction > 0.5.
-// With fade_depth > depth (a graded share, for shaping) the rays go fade_depth inside, and a
-// sample whose hit lies deeper inside than depth counts less, linearly down to 0 at fade_depth.
 float covered_fraction(const Opening& opening, const btCollisionObject& body, float depth = 0.5f,
-                       int samples = 8, float fade_depth = 0.0f);
+                       int samples = 8);
+
+// covered_fraction and, from the same rays, a graded share for shaping: the rays go on to
+// fade_depth inside (when deeper than depth), and a sample whose hit lies deeper inside than
+// depth counts less, linearly down to 0 at fade_depth (with fade_depth <= depth, graded =
+// covered).
+struct CoverShares {
+  float covered = 0.0f;  // covered_fraction(opening, body, depth, samples)
+  float graded = 0.0f;   // in [0, covered + the share hit between depth and fade_depth]
+};
+CoverShares cover_shares(const Opening& opening, const btCollisionObject& body, float fade_depth,
+                         float depth = 0.5f, int samples = 8);
 
 class Arena {
  public:

@@ -20,10 +20,8 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 constexpr float kSpawnHeight = 1.0f;  // drones start at this height (m)
 constexpr int kSpawnAttempts = 2000;
-constexpr float kClosedCover = 0.5f;   // an opening is closed when more than half is covered
-constexpr float kCoverReach = 2.0f;    // m: a prop centred farther from an opening cannot cover it
-constexpr float kClosingDepth = 0.5f;  // m either side of the wall plane: the closing test
-constexpr int kCoverSamples = 8;       // per side of the closing test's grid of rays
+constexpr float kClosedCover = 0.5f;  // an opening is closed when more than half is covered
+constexpr float kCoverReach = 2.0f;   // m: a prop centred farther from an opening cannot cover it
 
 // a prop standing in a doorway: its centre this far inside the wall's centre plane (the panel,
 // 0.2 m thick, clears the wall's inner face and covers the doorway for covered_fraction)
@@ -34,6 +32,28 @@ constexpr float kPropFootprint = 0.85f;
 constexpr float kObstacleFootprint = 0.65f;
 
 float clip1(float x) { return std::clamp(x, -1.0f, 1.0f); }
+
+// a prop standing in `door` (unlocked, covering it, parallel to its wall), on the floor at prop_y
+btVector3 standing_in(const drone::Opening& door, float prop_y) {
+  const btVector3 p = door.centre - door.normal * kInDoorway;
+  return btVector3(p.x(), prop_y, p.z());
+}
+
+// a floor point drawn in the room, at least 1 m from its inner faces (`inner` m from the centre)
+btVector3 room_point(std::mt19937_64& engine, float inner, float prop_y) {
+  return btVector3(uniform(engine, -inner + 1.0, inner - 1.0), prop_y,
+                   uniform(engine, -inner + 1.0, inner - 1.0));
+}
+
+// a level-2 prop's own place keeps 2.5 m across the floor from every opening
+bool far_from_openings(const btVector3& p, const std::vector<drone::Opening>& openings) {
+  bool far = true;
+  for (const auto& o : openings) {
+    const btVector3 d = p - o.centre;
+    far = far && (d.x() * d.x() + d.z() * d.z() >= 2.5f * 2.5f);
+  }
+  return far;
+}
 
 const char* kind_name(drone::Tag tag) {
   switch (tag) {
@@ -251,39 +271,29 @@ class SpawnPlanner {
 
 }  // namespace
 
-std::vector<btVector3> HideAndSeek::paired_level2_starts(float offset, float prop_y) {
+std::vector<btVector3> HideAndSeek::paired_level2_starts(float offset, float prop_y,
+                                                        float inner) {
   // the same places as prop_pairing 0 (in the room, at least 2.5 m from every opening, the props'
   // start spots clear of each other), drawn for both props before either is given one; the
   // panels are alike and their yaws are drawn afterwards, so the pairing changes which prop the
   // objects observation calls each hider's own, not the world the hiders start in
   const auto& openings = arena_->openings();
-  const float inner = arena_->params().room_half - 0.5f * arena_->params().wall_thickness;
-  const auto in_doorway = [&](int i) {
-    const btVector3 p = openings[i].centre - openings[i].normal * kInDoorway;
-    return btVector3(p.x(), prop_y, p.z());
-  };
-  const auto far_place = [&] {
+  const auto own_place = [&] {
     for (int attempt = 0;; ++attempt) {
-      const btVector3 p(uniform(engine_, -inner + 1.0, inner - 1.0), prop_y,
-                        uniform(engine_, -inner + 1.0, inner - 1.0));
-      bool far = true;
-      for (const auto& o : openings) {
-        const btVector3 d = p - o.centre;
-        far = far && (d.x() * d.x() + d.z() * d.z() >= 2.5f * 2.5f);
-      }
-      if (far) return p;
+      const btVector3 p = room_point(engine_, inner, prop_y);
+      if (far_from_openings(p, openings)) return p;
       if (attempt > kSpawnAttempts) throw std::runtime_error("HideAndSeek: no prop place");
     }
   };
+  const btVector3 door[2] = {standing_in(openings[0], prop_y), standing_in(openings[1], prop_y)};
   for (int attempt = 0;; ++attempt) {
-    std::vector<btVector3> place = {far_place(), far_place()};  // [2]
-    const float kept = (place[0] - in_doorway(0)).length() + (place[1] - in_doorway(1)).length();
-    const float swapped =
-        (place[1] - in_doorway(0)).length() + (place[0] - in_doorway(1)).length();
+    std::vector<btVector3> place = {own_place(), own_place()};  // [2]
+    const float kept = (place[0] - door[0]).length() + (place[1] - door[1]).length();
+    const float swapped = (place[1] - door[0]).length() + (place[0] - door[1]).length();
     if (swapped < kept) std::swap(place[0], place[1]);
     std::vector<btVector3> start(2);  // [2] prop i: offset of the way from doorway i to its place
     for (int i = 0; i < 2; ++i)
-      start[i] = offset < 1.0f ? in_doorway(i) + offset * (place[i] - in_doorway(i)) : place[i];
+      start[i] = offset < 1.0f ? door[i] + offset * (place[i] - door[i]) : place[i];
     if ((start[0] - start[1]).length() > 2 * kPropFootprint) return start;
     if (attempt > kSpawnAttempts) throw std::runtime_error("HideAndSeek: no prop place");
   }
@@ -374,10 +384,7 @@ void HideAndSeek::build_episode() {
       uniform(engine_, 0.0, 1.0) < static_cast<double>(s.prop_start_spread))
     offset = static_cast<float>(uniform(engine_, 0.0, static_cast<double>(offset)));
   episode_offset_ = level_ <= 2 ? offset : 1.0f;
-  const auto in_doorway = [&](int i) {  // on the floor, as props start
-    const btVector3 p = openings[i].centre - openings[i].normal * kInDoorway;
-    return btVector3(p.x(), prop_y, p.z());
-  };
+  const auto in_doorway = [&](int i) { return standing_in(openings[i], prop_y); };
   if (level_ == 1) {
     // next to doorway 0, inside the room, parallel to its wall, beside the doorway
     const drone::Opening& door = openings[0];
@@ -390,7 +397,7 @@ void HideAndSeek::build_episode() {
     // prop_pairing 1, level 2: both own places are drawn first and then given to the props so
     // that the ways from each doorway to its prop's place are least in total
     std::vector<btVector3> paired;
-    if (level_ == 2 && s.prop_pairing == 1) paired = paired_level2_starts(offset, prop_y);
+    if (level_ == 2 && s.prop_pairing == 1) paired = paired_level2_starts(offset, prop_y, inner);
     for (int i = 0; i < num_props; ++i) {
       btVector3 p;
       if (!paired.empty()) {
@@ -399,13 +406,8 @@ void HideAndSeek::build_episode() {
       } else if (level_ == 2) {
         // in the room, at least 2.5 m from every opening
         for (int attempt = 0;; ++attempt) {
-          p = btVector3(uniform(engine_, -inner + 1.0, inner - 1.0), prop_y,
-                        uniform(engine_, -inner + 1.0, inner - 1.0));
-          bool far = true;
-          for (const auto& o : openings) {
-            const btVector3 d = p - o.centre;
-            far = far && (d.x() * d.x() + d.z() * d.z() >= 2.5f * 2.5f);
-          }
+          p = room_point(engine_, inner, prop_y);
+          const bool far = far_from_openings(p, openings);
           if (offset < 1.0f) p = in_doorway(i) + offset * (p - in_doorway(i));
           bool clear = true;
           for (int j = 0; j < props_->size(); ++j)
@@ -599,8 +601,7 @@ bool HideAndSeek::opening_closed(int o) const {
     if (!prop.locked()) continue;
     const btVector3 d = prop.position() - opening.centre;
     if (d.length() > kCoverReach) continue;  // too far to cover it
-    if (drone::covered_fraction(opening, *prop.body, kClosingDepth, kCoverSamples) > kClosedCover)
-      return true;
+    if (drone::covered_fraction(opening, *prop.body) > kClosedCover) return true;
   }
   return false;
 }
@@ -749,11 +750,9 @@ HideAndSeek::Potential HideAndSeek::opening_potential(
       for (int i = 0; i < props_->size() && cover < kClosedCover; ++i) {
         const drone::Prop& prop = (*props_)[i];
         if (prop.locked() || (prop.position() - opening.centre).length() > kCoverReach) continue;
-        cover = std::max(
-            cover, drone::covered_fraction(opening, *prop.body, kClosingDepth, kCoverSamples));
-        if (s.cover_depth > kClosingDepth)
-          behind = std::max(behind, drone::covered_fraction(opening, *prop.body, kClosingDepth,
-                                                            kCoverSamples, s.cover_depth));
+        const drone::CoverShares shares = drone::cover_shares(opening, *prop.body, s.cover_depth);
+        cover = std::max(cover, shares.covered);
+        behind = std::max(behind, shares.graded);
       }
       hold(o, s.cover_shaping * std::max(std::min(1.0f, cover / kClosedCover), 0.5f * behind));
     }

@@ -215,8 +215,9 @@ class HideAndSeek : public Env {
  private:
   struct Settings;
   void build_episode();
-  // level 2 with prop_pairing 1: where props 0 and 1 start, given prop_start_offset `offset`
-  std::vector<btVector3> paired_level2_starts(float offset, float prop_y);
+  // level 2 with prop_pairing 1: where props 0 and 1 start, given prop_start_offset `offset`,
+  // the props' centre height and the room's inner half-size
+  std::vector<btVector3> paired_level2_starts(float offset, float prop_y, float inner);
   // true when the agent unlocked a prop
   bool apply_grab_and_lock(Agent& agent, const int* discrete);
   void run_frame(StepView& io);

@@ -174,8 +174,8 @@ TEST(ArenaTest, CoveredFractionOfAnOpeningByAPanel) {
   EXPECT_FLOAT_EQ(covered_fraction(window, *full), 0.0f);
 }
 
-// the graded share (fade_depth > depth): a panel whose face lies between depth and fade_depth
-// inside the wall plane counts part way, less the deeper it is; within depth it counts in full
+// cover_shares' graded share (fade_depth > depth): a panel whose face lies between depth and
+// fade_depth inside the wall plane counts part way, less the deeper it is; within depth in full
 TEST(ArenaTest, GradedCoverFadesWithDepthBehindTheOpening) {
   BulletWorld world;
   Arena arena(world, at_level(2));
@@ -190,13 +190,18 @@ TEST(ArenaTest, GradedCoverFadesWithDepthBehindTheOpening) {
   btRigidBody* mid = panel_at(1.0f);
   btRigidBody* deeper = panel_at(1.25f);
   btRigidBody* beyond = panel_at(2.0f);
-  EXPECT_FLOAT_EQ(covered_fraction(door, *near, 0.5f, 8, 1.5f), 1.0f);
-  EXPECT_NEAR(covered_fraction(door, *mid, 0.5f, 8, 1.5f), 0.5f, 1e-3f);  // (1.5 - 1) / 1
-  EXPECT_NEAR(covered_fraction(door, *deeper, 0.5f, 8, 1.5f), 0.25f, 1e-3f);
-  EXPECT_FLOAT_EQ(covered_fraction(door, *beyond, 0.5f, 8, 1.5f), 0.0f);
-  // without a fade depth only the closing test's 0.5 m count, in full
+  EXPECT_FLOAT_EQ(cover_shares(door, *near, 1.5f).graded, 1.0f);
+  EXPECT_NEAR(cover_shares(door, *mid, 1.5f).graded, 0.5f, 1e-3f);  // (1.5 - 1) / 1
+  EXPECT_NEAR(cover_shares(door, *deeper, 1.5f).graded, 0.25f, 1e-3f);
+  EXPECT_FLOAT_EQ(cover_shares(door, *beyond, 1.5f).graded, 0.0f);
+  // the same rays give the closing test's share: only faces within 0.5 m count, in full
+  EXPECT_FLOAT_EQ(cover_shares(door, *near, 1.5f).covered, 1.0f);
+  EXPECT_FLOAT_EQ(cover_shares(door, *mid, 1.5f).covered, 0.0f);
   EXPECT_FLOAT_EQ(covered_fraction(door, *near), 1.0f);
   EXPECT_FLOAT_EQ(covered_fraction(door, *mid), 0.0f);
+  // without a fade depth past 0.5 m the graded share is the closing test's
+  EXPECT_FLOAT_EQ(cover_shares(door, *mid, 0.5f).graded, 0.0f);
+  EXPECT_FLOAT_EQ(cover_shares(door, *near, 0.0f).graded, 1.0f);
 }
 
 TEST(ArenaTest, NoFlyingOverTheRoom) {
