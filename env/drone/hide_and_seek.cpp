@@ -87,6 +87,9 @@ struct HideAndSeek::Settings {
   // m inside the wall's centre plane: a panel lined up behind an opening holds up to half the
   // cover share, graded from the closing test's 0.5 m (in full) down to 0 this deep; 0.5 = none
   float cover_depth = 0.5f;
+  // mode 2: 1 = a locked prop short of closing keeps the shares it held unlocked (locking and
+  // unlocking it pay nothing); 0 = only unlocked props hold shares
+  bool lock_keeps_shaping = false;
   // 0 (the paper): every hider is paid the close reward of every opening; 1 (own): hider h only
   // that of its own opening, h mod the open ones (the one its objects observation lists first),
   // and every hider that of an opening no hider owns
@@ -170,6 +173,7 @@ HideAndSeek::HideAndSeek()
       {"cover_shaping", 0.f},
       {"shaping_range", 5.f},
       {"cover_depth", 0.5f},
+      {"lock_keeps_shaping", 0.f},
       {"close_credit", 0.f},
       {"fort_reward", 0.f},
       {"unlock_cost", 0.f},
@@ -321,6 +325,7 @@ void HideAndSeek::build_episode() {
         std::to_string(s.prop_shaping + s.reach_shaping + s.cover_shaping));
   s.cover_depth = drone::float_parameter(*this, "cover_depth", 0.5f, 3.0f);
   s.shaping_range = drone::float_parameter(*this, "shaping_range", 0.1f, 50.0f);
+  s.lock_keeps_shaping = drone::int_parameter(*this, "lock_keeps_shaping", 0, 1) == 1;
   s.close_credit = drone::int_parameter(*this, "close_credit", 0, 1);
   s.tagged_reward = parameter("tagged_reward");
   s.seen_reward = parameter("seen_reward");
@@ -731,12 +736,16 @@ HideAndSeek::Potential HideAndSeek::opening_potential(
       continue;
     }
     if (s.close_reward_mode != 2) continue;
-    // only unlocked props count: one locked short of closing must be unlocked before it helps,
-    // so locking it there takes its share back
+    // by default only unlocked props count: one locked short of closing must be unlocked before
+    // it helps, so locking it there takes its share back (and unlocking pays it again); with
+    // lock_keeps_shaping a lock changes the potential only when it closes the opening
+    const auto counts = [&](const drone::Prop& prop) {
+      return s.lock_keeps_shaping || !prop.locked();
+    };
     int nearest_prop = -1;
     float nearest = std::numeric_limits<float>::infinity();
     for (int i = 0; i < props_->size(); ++i) {
-      if ((*props_)[i].locked()) continue;
+      if (!counts((*props_)[i])) continue;
       const float d = ((*props_)[i].position() - opening.centre).length();
       if (d < nearest) nearest = d, nearest_prop = i;
     }
@@ -749,7 +758,7 @@ HideAndSeek::Potential HideAndSeek::opening_potential(
       float cover = 0.0f, behind = 0.0f;
       for (int i = 0; i < props_->size() && cover < kClosedCover; ++i) {
         const drone::Prop& prop = (*props_)[i];
-        if (prop.locked() || (prop.position() - opening.centre).length() > kCoverReach) continue;
+        if (!counts(prop) || (prop.position() - opening.centre).length() > kCoverReach) continue;
         const drone::CoverShares shares = drone::cover_shares(opening, *prop.body, s.cover_depth);
         cover = std::max(cover, shares.covered);
         behind = std::max(behind, shares.graded);

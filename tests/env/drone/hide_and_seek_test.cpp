@@ -773,6 +773,43 @@ TEST(HideAndSeekTest, ShapedCloseRewardPaysForBringingAPropNear) {
   EXPECT_EQ(step(), 0.0f);  // beyond 5 m nearness is 0
 }
 
+// lock_keeps_shaping: a prop locked short of the doorway keeps its nearness and cover shares, so
+// locking and unlocking it pay nothing; by default the lock gives them back and the unlock pays
+// them again
+TEST(HideAndSeekTest, LockKeepsShapingMakesALockShortOfTheDoorwayFree) {
+  const auto lock_and_unlock = [](float keeps) {
+    Game g({{"level", 1.f},
+            {"num_hiders", 1.f},
+            {"num_seekers", 1.f},
+            {"close_reward", 1.f},
+            {"close_reward_mode", 2.f},
+            {"prop_shaping", 0.5f},
+            {"cover_shaping", 0.3f},
+            {"lock_keeps_shaping", keeps}});
+    // prop and hider as for closing, then both 1.5 m further in: the prop is near, not closing
+    place_prop_in_doorway_and_hider_before_it(g);
+    const drone::Opening& door = g.env.arena().openings()[0];
+    for (btCollisionObject* body : {static_cast<btCollisionObject*>(g.env.props()[0].body),
+                                    static_cast<btCollisionObject*>(
+                                        &g.env.agent(HideAndSeek::kHider, 0).drone->body())}) {
+      btTransform pose = body->getWorldTransform();
+      pose.setOrigin(pose.getOrigin() - door.normal * 1.5f);
+      body->setWorldTransform(pose);
+    }
+    g.idle_step();  // the move is paid for here
+    EXPECT_EQ(g.idle_step(), 0.0f);
+    const float locked = g.lock_step(1);
+    EXPECT_TRUE(g.env.props()[0].locked());
+    EXPECT_FALSE(g.env.opening_closed(0));
+    const float unlocked = g.lock_step(2);
+    EXPECT_FALSE(g.env.props()[0].locked());
+    EXPECT_NEAR(locked + unlocked, 0.0f, 1e-4f);  // a potential: the round trip sums to 0
+    return unlocked;
+  };
+  EXPECT_GT(lock_and_unlock(0.0f), 0.1f);  // the unlock pays back the nearness share
+  EXPECT_EQ(lock_and_unlock(1.0f), 0.0f);
+}
+
 // cover_shaping: an unlocked prop pays as it comes to cover the doorway, in full once locking it
 // would close it; turned away or locked short it pays nothing
 // level 1, one hider and one seeker, a close reward of 1 of which only the cover share (0.5)
