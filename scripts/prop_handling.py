@@ -1,0 +1,117 @@
+#!/usr/bin/env python3
+"""How the hiders handle the props in the prep phase of recorded HideAndSeek episodes.
+
+Usage: scripts/prop_handling.py RECORDING.json
+(RECORDING from `rlt eval RUN --record RECORDING.json ...`, or `--policy Hider=scripted`.)
+
+Reads the recording's grab, lock and unlock events and the props' poses up to the prep_end
+event of each episode and prints, averaged over the episodes:
+- grabs, locks and unlocks per episode, and how many locks were within 0.8 m of an open opening;
+- the share of prop-frames each prop spent held, free and locked, and the metres it moved in each;
+- per prop paired with an opening (the first n props at level n, each with the open opening
+  nearest its start): the straight way from its start to that opening, the path it took, and
+  where it ended, for episodes with a fort (every opening closed) and without.
+Distances are horizontal (x, z), in metres.
+"""
+import json
+import statistics
+import sys
+from collections import Counter
+
+NEAR_OPENING = 0.8  # m: a lock this close to an open opening's centre counts as "at a doorway"
+
+
+def horizontal(a, b):
+    return ((a[0] - b[0]) ** 2 + (a[2] - b[2]) ** 2) ** 0.5
+
+
+def prep_frames(episode):
+    """the frames up to and including the one holding the prep_end event"""
+    for index, frame in enumerate(episode["frames"]):
+        if any(e["type"] == "prep_end" for e in frame.get("events", [])):
+            return episode["frames"][: index + 1]
+    return episode["frames"]
+
+
+def load_episodes(path):
+    try:
+        with open(path) as f:
+            recording = json.load(f)
+    except (OSError, json.JSONDecodeError) as e:
+        sys.exit(f"prop_handling.py: cannot read {path}: {e}")
+    if not isinstance(recording, dict) or recording.get("format") != "rlt-recording":
+        sys.exit(f"prop_handling.py: {path} is not an rlt recording (rlt eval --record)")
+    episodes = [e for e in recording.get("episodes", []) if e.get("env") == "HideAndSeek"]
+    if not episodes:
+        sys.exit(f"prop_handling.py: {path} holds no HideAndSeek episode")
+    return episodes
+
+
+def main(path):
+    episodes = load_episodes(path)
+    events = Counter()
+    locks_near = 0
+    metres = Counter()  # state -> metres moved
+    frames_in = Counter()  # state -> prop-frames
+    ways = {True: [], False: []}  # fort -> (straight, path, end) per prop
+    for episode in episodes:
+        dynamic = episode["dynamic_bodies"]  # body index of each pose row
+        props = [i for i, b in enumerate(episode["bodies"]) if b["kind"] == "prop"]
+        openings = [o for o in episode["openings"] if o["open"]]
+        frames = prep_frames(episode)
+        state = {p: "free" for p in props}
+        for index, frame in enumerate(frames):
+            poses = frame["poses"]
+            if index > 0:
+                before = frames[index - 1]["poses"]
+                for p in props:
+                    row = dynamic.index(p)
+                    metres[state[p]] += horizontal(before[row], poses[row])
+                    frames_in[state[p]] += 1
+            for e in frame.get("events", []):
+                kind, prop = e["type"], e["other"]
+                if kind not in ("grab", "lock", "unlock", "release"):
+                    continue
+                events[kind] += 1
+                state[prop] = {"grab": "held", "lock": "locked"}.get(kind, "free")
+                if kind == "lock":
+                    at = poses[dynamic.index(prop)]
+                    if any(horizontal(at, o["centre"]) < NEAR_OPENING for o in openings):
+                        locks_near += 1
+        fort = episode["metrics"].get("fort_rate", 0) == 1
+        for p in props[: len(openings)]:
+            row = dynamic.index(p)
+            start, end = frames[0]["poses"][row], frames[-1]["poses"][row]
+            opening = min(openings, key=lambda o: horizontal(start, o["centre"]))
+            travelled = sum(
+                horizontal(frames[k - 1]["poses"][row], frames[k]["poses"][row])
+                for k in range(1, len(frames))
+            )
+            ways[fort].append(
+                (horizontal(start, opening["centre"]), travelled, horizontal(end, opening["centre"]))
+            )
+
+    n = len(episodes)
+    print(f"{n} episodes, per episode in the prep phase:")
+    print("  " + ", ".join(f"{k} {events[k] / n:.1f}" for k in ("grab", "lock", "unlock", "release")))
+    print(f"  locks within {NEAR_OPENING} m of an open opening: {locks_near} of {events['lock']}")
+    total = sum(frames_in.values()) or 1
+    for s in ("held", "free", "locked"):
+        print(f"  {s}: {frames_in[s] / total:.2f} of the prop-frames, moved {metres[s] / n:.2f} m")
+    for fort in (True, False):
+        rows = ways[fort]
+        if not rows:
+            continue
+        median = lambda k: statistics.median(r[k] for r in rows)
+        ratio = statistics.median(r[1] / r[0] for r in rows if r[0] > 0)
+        label = "with a fort" if fort else "without"
+        print(
+            f"  props {label} ({len(rows)}): start to opening {median(0):.2f} m, path {median(1):.2f} m "
+            f"({ratio:.2f} x the straight way), end to opening {median(2):.2f} m (medians)"
+        )
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    main(sys.argv[1])

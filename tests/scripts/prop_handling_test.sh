@@ -1,0 +1,23 @@
+#!/bin/sh
+# scripts/prop_handling.py on two episodes of the scripted hider at level 1 (one grab and one lock
+# per episode, both locks at the doorway, both forts built), and on a file that is not a recording.
+# Usage: prop_handling_test.sh RLT_BINARY SCRIPT PYTHON
+set -eu
+rlt=$1
+script=$2
+python=$3
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+"$rlt" eval --env HideAndSeek --policy Hider=scripted --policy Seeker=still --param level=1 \
+  --episodes 2 --seed 1 --record "$dir/episodes.json" > /dev/null
+out=$("$python" "$script" "$dir/episodes.json")
+echo "$out"
+echo "$out" | grep -q "grab 1.0, lock 1.0, unlock 0.0"
+echo "$out" | grep -q "locks within 0.8 m of an open opening: 2 of 2"
+echo "$out" | grep -q "props with a fort (2)"
+echo '{}' > "$dir/not_a_recording.json"
+if "$python" "$script" "$dir/not_a_recording.json" 2> "$dir/error"; then
+  echo "a file that is not a recording was read" >&2
+  exit 1
+fi
+grep -q "is not an rlt recording" "$dir/error"
