@@ -55,19 +55,25 @@ def main(path):
     frames_in = Counter()  # state -> prop-frames
     ways = {True: [], False: []}  # fort -> (straight, path, end) per prop
     for episode in episodes:
-        dynamic = episode["dynamic_bodies"]  # body index of each pose row
-        props = [i for i, b in enumerate(episode["bodies"]) if b["kind"] == "prop"]
+        # pose row of each prop's body
+        rows = {
+            body: row
+            for row, body in enumerate(episode["dynamic_bodies"])
+            if episode["bodies"][body]["kind"] == "prop"
+        }
         openings = [o for o in episode["openings"] if o["open"]]
         frames = prep_frames(episode)
-        state = {p: "free" for p in props}
+        state = {p: "free" for p in rows}
+        travelled = Counter()  # prop -> metres
         for index, frame in enumerate(frames):
             poses = frame["poses"]
             if index > 0:
                 before = frames[index - 1]["poses"]
-                for p in props:
-                    row = dynamic.index(p)
-                    metres[state[p]] += horizontal(before[row], poses[row])
+                for p, row in rows.items():
+                    step = horizontal(before[row], poses[row])
+                    metres[state[p]] += step
                     frames_in[state[p]] += 1
+                    travelled[p] += step
             for e in frame.get("events", []):
                 kind, prop = e["type"], e["other"]
                 if kind not in ("grab", "lock", "unlock", "release"):
@@ -75,20 +81,15 @@ def main(path):
                 events[kind] += 1
                 state[prop] = {"grab": "held", "lock": "locked"}.get(kind, "free")
                 if kind == "lock":
-                    at = poses[dynamic.index(prop)]
+                    at = poses[rows[prop]]
                     if any(horizontal(at, o["centre"]) < NEAR_OPENING for o in openings):
                         locks_near += 1
         fort = episode["metrics"].get("fort_rate", 0) == 1
-        for p in props[: len(openings)]:
-            row = dynamic.index(p)
-            start, end = frames[0]["poses"][row], frames[-1]["poses"][row]
+        for p in sorted(rows)[: len(openings)]:
+            start, end = frames[0]["poses"][rows[p]], frames[-1]["poses"][rows[p]]
             opening = min(openings, key=lambda o: horizontal(start, o["centre"]))
-            travelled = sum(
-                horizontal(frames[k - 1]["poses"][row], frames[k]["poses"][row])
-                for k in range(1, len(frames))
-            )
             ways[fort].append(
-                (horizontal(start, opening["centre"]), travelled, horizontal(end, opening["centre"]))
+                (horizontal(start, opening["centre"]), travelled[p], horizontal(end, opening["centre"]))
             )
 
     n = len(episodes)

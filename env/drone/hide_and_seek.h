@@ -77,8 +77,8 @@
 //     `lock_keeps_shaping` 1 a locked prop holds the same shares as an unlocked one, and a lock
 //     or an unlock changes the reward only when it closes or opens the opening. Trained hiders
 //     paid by the default lock and unlock tens of times per prep phase; with 1 they did so about
-//     a quarter as often but learned the lessons more slowly (docs/results, eleventh section). With `close_credit` 1 (own; 0, the default, is the paper's team
-//     reward) hider h is paid only the close reward of its own opening, h mod the number of open
+//     a quarter as often but learned the lessons more slowly (docs/results, eleventh section).
+//     With `close_credit` 1 (own; 0, the default, is the paper's team reward) hider h is paid only the close reward of its own opening, h mod the number of open
 //     ones (the one its objects observation lists first), and every hider that of an opening no
 //     hider owns: at level 2 each of two hiders answers for one doorway, at level 1 both for the
 //     one.
