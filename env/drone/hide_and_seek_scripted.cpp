@@ -36,14 +36,27 @@ btVector3 horizontal(btVector3 v) {
   return v;
 }
 
-// the open openings not yet closed, doorways first, then by index
-std::vector<int> openings_to_close(const HideAndSeek& env) {
+// the openings open at the level, doorways first, then by index
+std::vector<int> open_openings(const HideAndSeek& env) {
   std::vector<int> out;
   const auto& openings = env.arena().openings();
   for (int kind = 0; kind < 2; ++kind)
     for (int o = 0; o < kNumOpenings; ++o)
-      if (openings[o].open && openings[o].kind == kind && !env.opening_closed(o)) out.push_back(o);
+      if (openings[o].open && openings[o].kind == kind) out.push_back(o);
   return out;
+}
+
+// the opening the hider of `rank` (among those present) works on: its own, the rank-th of `open`,
+// until it is closed, then the first one still open that is no other hider's own; -1 when none
+// is left
+int opening_for(const HideAndSeek& env, const std::vector<int>& open, int rank, int hiders) {
+  const int n = static_cast<int>(open.size());
+  if (rank < n && !env.opening_closed(open[rank])) return open[rank];
+  for (int i = 0; i < n; ++i) {
+    const bool someones = i < hiders && i != rank;
+    if (!someones && !env.opening_closed(open[i])) return open[i];
+  }
+  return -1;
 }
 
 // true when the straight path from a to b crosses the room (inflated by `margin`)
@@ -167,7 +180,7 @@ void seeker_actions(HideAndSeek& env, BehaviorView& view, int slot) {
 
 // hider `slot` works on its opening; `claimed` lists props given to hiders before it
 void hider_actions(HideAndSeek& env, BehaviorView& view, int slot, std::vector<int>& claimed,
-                   const std::vector<int>& todo) {
+                   const std::vector<int>& open) {
   DroneBody& me = *env.agent(HideAndSeek::kHider, slot).drone;
   PropSet& props = env.props();
   const btVector3 p = me.position();
@@ -177,19 +190,25 @@ void hider_actions(HideAndSeek& env, BehaviorView& view, int slot, std::vector<i
   k[HideAndSeek::kGrabBranch] = 0;
   k[HideAndSeek::kLockBranch] = 0;
 
-  // my opening: the slot-th of those left (hiders that hold a prop keep theirs first)
-  int rank = 0;
-  for (int h = 0; h < slot; ++h) rank += env.agent(HideAndSeek::kHider, h).present;
-  if (rank >= static_cast<int>(todo.size())) return;  // nothing for me: stay
-  const Opening& opening = env.arena().openings()[todo[rank]];
+  int rank = 0, hiders = 0;
+  for (int h = 0; h < HideAndSeek::kMaxHiders; ++h) {
+    const bool present = env.agent(HideAndSeek::kHider, h).present;
+    rank += present && h < slot;
+    hiders += present;
+  }
+  const int target = opening_for(env, open, rank, hiders);
+  if (target < 0) return;  // nothing for me: stay
+  const Opening& opening = env.arena().openings()[target];
 
   int prop = props.held_by(me);
   if (prop < 0) {
+    // the free prop with the shortest way: to it, then with it to the opening
     float best = std::numeric_limits<float>::infinity();
     for (int i = 0; i < props.size(); ++i) {
       if (props[i].locked() || props[i].held_by != nullptr) continue;
       if (std::find(claimed.begin(), claimed.end(), i) != claimed.end()) continue;
-      const float d = (props[i].position() - p).length();
+      const btVector3 at = props[i].position();
+      const float d = horizontal(at - p).length() + horizontal(opening.centre - at).length();
       if (d < best) best = d, prop = i;
     }
   }
@@ -223,15 +242,26 @@ void hider_actions(HideAndSeek& env, BehaviorView& view, int slot, std::vector<i
   const btVector3 error = goal - centre;
   const float along = error.dot(opening.normal);  // > 0: not there yet
   const btVector3 lateral = error - opening.normal * along;
-  const float turn = wrap_half(std::atan2(opening.normal.x(), opening.normal.z()) -
-                               std::atan2(normal.x(), normal.z()));
+  const float outward = std::atan2(opening.normal.x(), opening.normal.z());
+  const float turn = wrap_half(outward - std::atan2(normal.x(), normal.z()));
+  // the drone turns until the panel is square to the opening and lies between the drone and the
+  // wall: a drone on the opening's side of its panel would go through the opening first and pin
+  // the panel against the wall from outside. Of the two yaws that square the panel, the one that
+  // puts the panel (bearing `bearing` from the drone's forward) on the wall's side.
+  const btVector3 forward = me.forward();
+  const btVector3 to_panel = horizontal(centre - p);
+  const float yaw = std::atan2(forward.x(), forward.z());
+  float want = yaw + turn;
+  const float bearing = std::atan2(to_panel.x(), to_panel.z()) - yaw;
+  if (std::cos(want + bearing - outward) < 0) want += kPi;
+  const float heading = wrap(want - yaw);
   btVector3 prop_target = goal;
-  if (lateral.length() > 0.2f || std::abs(turn) > 0.15f)
+  if (lateral.length() > 0.2f || std::abs(heading) > 0.15f)
     prop_target = goal - opening.normal * 1.2f;  // line up inside the room first
   // the drone moves with the panel: fly the drone by the panel's error
   const auto a = steer(me, p + (prop_target - centre), p);
   std::copy(a.begin(), a.end(), c);
-  c[3] = std::clamp(2.5f * turn, -1.0f, 1.0f);
+  c[3] = std::clamp(2.5f * heading, -1.0f, 1.0f);
   if (error.length() < 0.15f && std::abs(turn) < 0.1f) k[HideAndSeek::kLockBranch] = 1;
 }
 
@@ -240,14 +270,14 @@ void hider_actions(HideAndSeek& env, BehaviorView& view, int slot, std::vector<i
 bool write_scripted_hide_and_seek_actions(HideAndSeek& env, HideAndSeek::Team team,
                                           BehaviorView& view) {
   std::vector<int> claimed;
-  const std::vector<int> todo = team == HideAndSeek::kHider ? openings_to_close(env) : std::vector<int>();
+  const std::vector<int> open = team == HideAndSeek::kHider ? open_openings(env) : std::vector<int>();
   for (int slot = 0; slot < view.slots(); ++slot) {
     if (!needs_action(view.step_type(slot))) continue;
     if (!env.agent(team, slot).present) continue;
     if (team == HideAndSeek::kSeeker)
       seeker_actions(env, view, slot);
     else
-      hider_actions(env, view, slot, claimed, todo);
+      hider_actions(env, view, slot, claimed, open);
   }
   return true;
 }
