@@ -10,7 +10,9 @@ event of each episode and prints, averaged over the episodes:
 - the share of prop-frames each prop spent held, free and locked, and the metres it moved in each;
 - per prop paired with an opening (the first n props at level n, each with the open opening
   nearest its start): the straight way from its start to that opening, the path it took, and
-  where it ended, for episodes with a fort (every opening closed) and without.
+  where it ended, for episodes with a fort (every opening closed) and without; and, over the
+  frames in which such a prop was held, how often the panel was between the drone and that
+  opening (the panel goes first) and how often it moved towards the opening rather than away.
 Distances are horizontal (x, z), in metres.
 """
 import json
@@ -19,10 +21,23 @@ import sys
 from collections import Counter
 
 NEAR_OPENING = 0.8  # m: a lock this close to an open opening's centre counts as "at a doorway"
+STILL = 0.002  # m: a prop that moved less than this in a frame did not move
 
 
 def horizontal(a, b):
     return ((a[0] - b[0]) ** 2 + (a[2] - b[2]) ** 2) ** 0.5
+
+
+def count_carried(carried, drone, before, after, opening):
+    """one held frame of a prop paired with the opening centred at `opening`"""
+    carried["frames"] += 1
+    # the panel goes first when drone -> panel points the way panel -> opening does
+    ahead = (after[0] - drone[0]) * (opening[0] - after[0]) + (after[2] - drone[2]) * (opening[2] - after[2])
+    carried["panel_first"] += ahead > 0
+    closer = horizontal(after, opening) - horizontal(before, opening)
+    if abs(closer) >= STILL:
+        carried["moved"] += 1
+        carried["towards"] += closer < 0
 
 
 def prep_frames(episode):
@@ -54,6 +69,7 @@ def main(path):
     metres = Counter()  # state -> metres moved
     frames_in = Counter()  # state -> prop-frames
     ways = {True: [], False: []}  # fort -> (straight, path, end) per prop
+    carried = Counter()  # held frames of paired props: "frames", "panel_first", "moved", "towards"
     for episode in episodes:
         # pose row of each prop's body
         rows = {
@@ -63,7 +79,13 @@ def main(path):
         }
         openings = [o for o in episode["openings"] if o["open"]]
         frames = prep_frames(episode)
+        body_row = {body: row for row, body in enumerate(episode["dynamic_bodies"])}
+        paired = {  # prop -> the centre of the open opening nearest its start
+            p: min((o["centre"] for o in openings), key=lambda c: horizontal(frames[0]["poses"][rows[p]], c))
+            for p in sorted(rows)[: len(openings)]
+        }
         state = {p: "free" for p in rows}
+        holder = {}  # prop -> pose row of the drone that holds it
         travelled = Counter()  # prop -> metres
         for index, frame in enumerate(frames):
             poses = frame["poses"]
@@ -74,23 +96,24 @@ def main(path):
                     metres[state[p]] += step
                     frames_in[state[p]] += 1
                     travelled[p] += step
+                    if state[p] == "held" and p in paired and p in holder:
+                        count_carried(carried, poses[holder[p]], before[row], poses[row], paired[p])
             for e in frame.get("events", []):
                 kind, prop = e["type"], e["other"]
                 if kind not in ("grab", "lock", "unlock", "release"):
                     continue
                 events[kind] += 1
                 state[prop] = {"grab": "held", "lock": "locked"}.get(kind, "free")
+                if kind == "grab":
+                    holder[prop] = body_row[e["body"]]
                 if kind == "lock":
                     at = poses[rows[prop]]
                     if any(horizontal(at, o["centre"]) < NEAR_OPENING for o in openings):
                         locks_near += 1
         fort = episode["metrics"].get("fort_rate", 0) == 1
-        for p in sorted(rows)[: len(openings)]:
+        for p, centre in paired.items():
             start, end = frames[0]["poses"][rows[p]], frames[-1]["poses"][rows[p]]
-            opening = min(openings, key=lambda o: horizontal(start, o["centre"]))
-            ways[fort].append(
-                (horizontal(start, opening["centre"]), travelled[p], horizontal(end, opening["centre"]))
-            )
+            ways[fort].append((horizontal(start, centre), travelled[p], horizontal(end, centre)))
 
     n = len(episodes)
     print(f"{n} episodes, per episode in the prep phase:")
@@ -109,6 +132,12 @@ def main(path):
         print(
             f"  props {label} ({len(rows)}): start to opening {median(0):.2f} m, path {median(1):.2f} m "
             f"({ratio:.2f} x the straight way), end to opening {median(2):.2f} m (medians)"
+        )
+    if carried["frames"]:
+        print(
+            f"  while held: the panel between the drone and its opening in "
+            f"{carried['panel_first'] / carried['frames']:.2f} of the frames; moving towards the "
+            f"opening in {carried['towards'] / max(1, carried['moved']):.2f} of those it moved in"
         )
 
 
