@@ -71,15 +71,11 @@ def main(path):
     ways = {True: [], False: []}  # fort -> (straight, path, end) per prop
     carried = Counter()  # held frames of paired props: "frames", "panel_first", "moved", "towards"
     for episode in episodes:
-        # pose row of each prop's body
-        rows = {
-            body: row
-            for row, body in enumerate(episode["dynamic_bodies"])
-            if episode["bodies"][body]["kind"] == "prop"
-        }
+        # pose row of each dynamic body, and of each prop's
+        body_row = {body: row for row, body in enumerate(episode["dynamic_bodies"])}
+        rows = {body: row for body, row in body_row.items() if episode["bodies"][body]["kind"] == "prop"}
         openings = [o for o in episode["openings"] if o["open"]]
         frames = prep_frames(episode)
-        body_row = {body: row for row, body in enumerate(episode["dynamic_bodies"])}
         paired = {  # prop -> the centre of the open opening nearest its start
             p: min((o["centre"] for o in openings), key=lambda c: horizontal(frames[0]["poses"][rows[p]], c))
             for p in sorted(rows)[: len(openings)]
@@ -123,14 +119,14 @@ def main(path):
     for s in ("held", "free", "locked"):
         print(f"  {s}: {frames_in[s] / total:.2f} of the prop-frames, moved {metres[s] / n:.2f} m")
     for fort in (True, False):
-        rows = ways[fort]
-        if not rows:
+        props = ways[fort]
+        if not props:
             continue
-        median = lambda k: statistics.median(r[k] for r in rows)
-        ratio = statistics.median(r[1] / r[0] for r in rows if r[0] > 0)
+        median = lambda k: statistics.median(r[k] for r in props)
+        ratio = statistics.median(r[1] / r[0] for r in props if r[0] > 0)
         label = "with a fort" if fort else "without"
         print(
-            f"  props {label} ({len(rows)}): start to opening {median(0):.2f} m, path {median(1):.2f} m "
+            f"  props {label} ({len(props)}): start to opening {median(0):.2f} m, path {median(1):.2f} m "
             f"({ratio:.2f} x the straight way), end to opening {median(2):.2f} m (medians)"
         )
     if carried["frames"]:

@@ -78,10 +78,10 @@
 //     or an unlock changes the reward only when it closes or opens the opening. Trained hiders
 //     paid by the default lock and unlock tens of times per prep phase; with 1 they did so about
 //     a quarter as often but learned the lessons more slowly (docs/results, eleventh section).
-//     With `close_credit` 1 (own; 0, the default, is the paper's team reward) hider h is paid only the close reward of its own opening, h mod the number of open
-//     ones (the one its objects observation lists first), and every hider that of an opening no
-//     hider owns: at level 2 each of two hiders answers for one doorway, at level 1 both for the
-//     one.
+//     With `close_credit` 1 (own; 0, the default, is the paper's team reward) hider h is paid
+//     only the close reward of its own opening, h mod the number of open ones (the one its
+//     objects observation lists first), and every hider that of an opening no hider owns: at
+//     level 2 each of two hiders answers for one doorway, at level 1 both for the one.
 //     + fort_reward (0) per opening closed when the prep phase ends (the fort the seekers meet:
 //     the close reward pays the closing, this the keeping; a quick unlock and relock pays again).
 //     - unlock_cost (0) from a hider for every prop it unlocks: the held close reward refunds an

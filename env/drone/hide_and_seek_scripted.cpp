@@ -46,15 +46,15 @@ std::vector<int> open_openings(const HideAndSeek& env) {
   return out;
 }
 
-// the opening the hider of `rank` (among those present) works on: its own, the rank-th of `open`,
-// until it is closed, then the first one still open that is no other hider's own; -1 when none
-// is left
-int opening_for(const HideAndSeek& env, const std::vector<int>& open, int rank, int hiders) {
-  const int n = static_cast<int>(open.size());
-  if (rank < n && !env.opening_closed(open[rank])) return open[rank];
+// the opening the hider of `rank` (among those present) works on: its own, the rank-th of
+// `open_ones`, until it is closed, then the first one still open that is no other hider's own;
+// -1 when none is left
+int opening_for(const HideAndSeek& env, const std::vector<int>& open_ones, int rank, int hiders) {
+  const int n = static_cast<int>(open_ones.size());
+  if (rank < n && !env.opening_closed(open_ones[rank])) return open_ones[rank];
   for (int i = 0; i < n; ++i) {
     const bool someones = i < hiders && i != rank;
-    if (!someones && !env.opening_closed(open[i])) return open[i];
+    if (!someones && !env.opening_closed(open_ones[i])) return open_ones[i];
   }
   return -1;
 }
@@ -180,7 +180,7 @@ void seeker_actions(HideAndSeek& env, BehaviorView& view, int slot) {
 
 // hider `slot` works on its opening; `claimed` lists props given to hiders before it
 void hider_actions(HideAndSeek& env, BehaviorView& view, int slot, std::vector<int>& claimed,
-                   const std::vector<int>& open) {
+                   const std::vector<int>& open_ones) {
   DroneBody& me = *env.agent(HideAndSeek::kHider, slot).drone;
   PropSet& props = env.props();
   const btVector3 p = me.position();
@@ -196,7 +196,7 @@ void hider_actions(HideAndSeek& env, BehaviorView& view, int slot, std::vector<i
     rank += present && h < slot;
     hiders += present;
   }
-  const int target = opening_for(env, open, rank, hiders);
+  const int target = opening_for(env, open_ones, rank, hiders);
   if (target < 0) return;  // nothing for me: stay
   const Opening& opening = env.arena().openings()[target];
 
@@ -270,14 +270,15 @@ void hider_actions(HideAndSeek& env, BehaviorView& view, int slot, std::vector<i
 bool write_scripted_hide_and_seek_actions(HideAndSeek& env, HideAndSeek::Team team,
                                           BehaviorView& view) {
   std::vector<int> claimed;
-  const std::vector<int> open = team == HideAndSeek::kHider ? open_openings(env) : std::vector<int>();
+  const std::vector<int> open_ones =
+      team == HideAndSeek::kHider ? open_openings(env) : std::vector<int>();
   for (int slot = 0; slot < view.slots(); ++slot) {
     if (!needs_action(view.step_type(slot))) continue;
     if (!env.agent(team, slot).present) continue;
     if (team == HideAndSeek::kSeeker)
       seeker_actions(env, view, slot);
     else
-      hider_actions(env, view, slot, claimed, open);
+      hider_actions(env, view, slot, claimed, open_ones);
   }
   return true;
 }
