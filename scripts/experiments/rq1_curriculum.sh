@@ -13,9 +13,10 @@ report=$REPORTS/rq1_curriculum.md
   echo
   echo "Produced by \`scripts/experiments/rq1_curriculum.sh\` on $(date -u +%Y-%m-%d), $STEPS steps"
   echo "per behavior, seeds: $SEEDS. Curriculum: \`configs/hide_and_seek.yaml\`; no curriculum:"
-  echo "\`configs/experiments/rq1_no_curriculum.yaml\` (level 4 throughout). The curriculum's lessons"
-  echo "0-9 are level 1 (the prop moving from its doorway to its own place), 10-21 level 2 (the same"
-  echo "with two props), 22 level 3 and 23 level 4."
+  echo "\`configs/experiments/rq1_no_curriculum.yaml\` (the default with its curriculum frozen at the"
+  echo "last lesson: level 4 throughout). The curriculum's lessons 0-5 are level 1 (the prop moving from"
+  echo "its doorway half way to its own place), 6-17 level 2 (two props, from their doorways to their"
+  echo "own places), 18 level 3 and 19 level 4."
   echo
   echo "| seed | arm | final hider reward | final lesson (index) | fort rate (last row) | minutes |"
   echo "|---|---|---|---|---|---|"

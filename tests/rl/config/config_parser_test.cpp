@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 
 namespace rlt {
@@ -748,6 +749,28 @@ TEST(ConfigParserTest, EveryShippedConfigReads) {
     ++read;
   }
   EXPECT_GE(read, 10);
+}
+
+// RQ1's control arm must differ from the default hide-and-seek config by its curriculum alone:
+// the default with each parameter set to its curriculum's last lesson must read as the control.
+TEST(ConfigParserTest, Rq1ControlIsTheDefaultWithoutCurriculum) {
+  RunConfig expected = load_run_config("configs/hide_and_seek.yaml");
+  const RunConfig control = load_run_config("configs/experiments/rq1_no_curriculum.yaml");
+  ASSERT_EQ(expected.environment_parameters.count("level"), 1u);
+  std::map<std::string, EnvironmentParameterSettings> frozen;
+  for (const auto& [name, settings] : expected.environment_parameters) {
+    if (!settings.is_curriculum()) {
+      frozen[name] = settings;
+      continue;
+    }
+    const Lesson& last = settings.curriculum.back();
+    frozen[name].sampler = last.value;
+    for (const auto& [other, sampler] : last.other_parameters) frozen[other].sampler = sampler;
+  }
+  EXPECT_EQ(frozen.at("level").sampler.value, 4.f);
+  expected.environment_parameters = frozen;
+  expected.checkpoint_settings.run_id = control.checkpoint_settings.run_id;
+  EXPECT_EQ(run_config_to_yaml(control), run_config_to_yaml(expected));
 }
 
 TEST(ConfigParserErrorTest, CurriculumErrors) {
