@@ -1,13 +1,21 @@
 #!/usr/bin/env bash
 # RQ1: does the curriculum help the hiders? The default configuration (four levels advanced by the
-# hiders' reward) against the same configuration at level 4 from the first step, 3.3M steps per
-# behavior each, for every seed in SEEDS (default 1). Writes docs/results/rq1_curriculum.md and
-# its plots. Not run in CI: each run takes tens of minutes on 2 cores.
+# hiders' fort rate) against the same configuration at level 4 from the first step, 3.3M steps per
+# behavior each, for every seed in SEEDS (default 1); then both arms' final hiders play
+# EVAL_EPISODES (48) episodes at level 4 against scripted seekers and each arm's seekers. Writes
+# docs/results/rq1_curriculum.md and its plots. Not run in CI: each run takes tens of minutes on
+# 2 cores.
 source "$(dirname "$0")/common.sh"
 ensure_built
 ensure_gnuplot
 STEPS=${STEPS:-3300000}
+EVAL_EPISODES=${EVAL_EPISODES:-48}
 report=$REPORTS/rq1_curriculum.md
+
+# json_number LINE KEY: KEY's number in the one-line JSON object LINE, to two decimals
+json_number() {
+  echo "$1" | grep -o "\"$2\":[-0-9.e+]*" | cut -d: -f2 | awk '{ printf "%.2f", $1 }'
+}
 {
   echo "# RQ1: curriculum vs no curriculum for the hiders"
   echo
@@ -18,7 +26,7 @@ report=$REPORTS/rq1_curriculum.md
   echo "its doorway half way to its own place), 6-17 level 2 (two props, from their doorways to their"
   echo "own places), 18 level 3 and 19 level 4."
   echo
-  echo "| seed | arm | final hider reward | final lesson (index) | fort rate (last row) | minutes |"
+  echo "| seed | arm | final hider reward | final lesson (index) | fort rate, last 100 episodes | minutes |"
   echo "|---|---|---|---|---|---|"
 } > "$report"
 for seed in $SEEDS; do
@@ -31,9 +39,30 @@ for seed in $SEEDS; do
     reward=$(awk -F, 'NR > 1 && $3 > 0 { r = $4 } END { printf "%.3f", r }' "$hider")
     # the lesson index in the level curriculum; the control arm has no curriculum
     lesson=$({ grep -o '"level": [0-9]*' "$run/training_status.json" || true; } | awk '{ print $2 }')
-    fort=$(awk -F, -v c="$(column fort_rate "$episodes")" 'NR > 1 { f = $c } END { printf "%.2f", f }' "$episodes")
+    fort=$(tail -n 100 "$episodes" | awk -F, -v c="$(column fort_rate "$episodes")" \
+      '{ f += $c } END { printf "%.2f", f / NR }')
     minutes=$(awk -F, 'END { printf "%.0f", $2 / 60 }' "$hider")
     echo "| $seed | $arm | $reward | ${lesson:-fixed 4} | $fort | $minutes |" >> "$report"
+  done
+  # The rewards differ in kind between the arms (the curriculum's come from easier levels), so
+  # both arms' final hiders also play level 4 against the same seekers.
+  {
+    echo
+    echo "Seed $seed, the final hiders at level 4 ($EVAL_EPISODES episodes each, \`rlt eval RUN --param"
+    echo "level=4 --policy Seeker=WHO\`):"
+    echo
+    echo "| hiders | seekers | fort rate | hidden fraction | tag rate |"
+    echo "|---|---|---|---|---|"
+  } >> "$report"
+  for arm in curriculum no_curriculum; do
+    for seekers in scripted curriculum no_curriculum; do
+      who=$seekers
+      [ "$seekers" = scripted ] || who=$RESULTS/rq1_${seekers}_s$seed
+      line=$("$RLT" eval "$RESULTS/rq1_${arm}_s$seed" --param level=4 --policy Seeker="$who" \
+        --episodes "$EVAL_EPISODES" --json | grep '"behavior":"Hider"')
+      echo "| $arm | $seekers | $(json_number "$line" fort_rate) | $(json_number "$line" hidden_fraction)" \
+        "| $(json_number "$line" tag_rate) |" >> "$report"
+    done
   done
   plot "$REPORTS/rq1_s$seed" "rq1_curriculum_s$seed" "rq1_no_curriculum_s$seed"
   {
