@@ -43,6 +43,12 @@ column() {
   head -n 1 "$2" | tr ',' '\n' | grep -n -x "$1" | cut -d: -f1
 }
 
+# json_number LINE KEY: KEY's number in the one-line JSON object LINE (rlt eval --json), to two
+# decimals
+json_number() {
+  echo "$1" | grep -o "\"$2\":[-0-9.e+]*" | cut -d: -f2 | awk '{ printf "%.2f", $1 }'
+}
+
 # emerged RUN_ID STRATEGY: the step STRATEGY emerged at in the run, or "not emerged"
 emerged() {
   local status=$RESULTS/$1/training_status.json

@@ -12,10 +12,6 @@ STEPS=${STEPS:-3300000}
 EVAL_EPISODES=${EVAL_EPISODES:-48}
 report=$REPORTS/rq1_curriculum.md
 
-# json_number LINE KEY: KEY's number in the one-line JSON object LINE, to two decimals
-json_number() {
-  echo "$1" | grep -o "\"$2\":[-0-9.e+]*" | cut -d: -f2 | awk '{ printf "%.2f", $1 }'
-}
 {
   echo "# RQ1: curriculum vs no curriculum for the hiders"
   echo
