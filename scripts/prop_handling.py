@@ -12,7 +12,9 @@ event of each episode and prints, averaged over the episodes:
   nearest its start): the straight way from its start to that opening, the path it took, and
   where it ended, for episodes with a fort (every opening closed) and without; and, over the
   frames in which such a prop was held, how often the panel was between the drone and that
-  opening (the panel goes first) and how often it moved towards the opening rather than away.
+  opening (the panel goes first) and how often it moved towards the opening rather than away;
+- what the closed openings bought in the test phase: by how many openings were closed at the end
+  of the prep phase, the episodes, the share in which a hider was tagged and the hidden fraction.
 Distances are horizontal (x, z), in metres.
 """
 import json
@@ -70,6 +72,7 @@ def main(path):
     frames_in = Counter()  # state -> prop-frames
     ways = {True: [], False: []}  # fort -> (straight, path, end) per prop
     carried = Counter()  # held frames of paired props: "frames", "panel_first", "moved", "towards"
+    by_closed = {}  # openings closed at the end of the prep phase -> [(tagged, hidden fraction)]
     for episode in episodes:
         # pose row of each dynamic body, and of each prop's
         body_row = {body: row for row, body in enumerate(episode["dynamic_bodies"])}
@@ -106,7 +109,10 @@ def main(path):
                     at = poses[rows[prop]]
                     if any(horizontal(at, o["centre"]) < NEAR_OPENING for o in openings):
                         locks_near += 1
-        fort = episode["metrics"].get("fort_rate", 0) == 1
+        metrics = episode["metrics"]
+        fort = metrics.get("fort_rate", 0) == 1
+        closed = int(round(metrics.get("openings_closed", 0)))
+        by_closed.setdefault(closed, []).append((metrics.get("tag_rate", 0), metrics.get("hidden_fraction", 0)))
         for p, centre in paired.items():
             start, end = frames[0]["poses"][rows[p]], frames[-1]["poses"][rows[p]]
             ways[fort].append((horizontal(start, centre), travelled[p], horizontal(end, centre)))
@@ -135,6 +141,11 @@ def main(path):
             f"{carried['panel_first'] / carried['frames']:.2f} of the frames; moving towards the "
             f"opening in {carried['towards'] / max(1, carried['moved']):.2f} of those it moved in"
         )
+    print("by openings closed at the end of the prep phase:")
+    for closed, outcomes in sorted(by_closed.items()):
+        tagged = sum(t for t, _ in outcomes) / len(outcomes)
+        hidden = statistics.mean(h for _, h in outcomes)
+        print(f"  {closed} closed: {len(outcomes)} episodes, tagged in {tagged:.2f}, hidden fraction {hidden:.2f}")
 
 
 if __name__ == "__main__":
