@@ -22,7 +22,7 @@ report=$REPORTS/rq1_curriculum.md
   echo "its doorway half way to its own place), 6-17 level 2 (two props, from their doorways to their"
   echo "own places), 18 level 3 and 19 level 4."
   echo
-  echo "| seed | arm | final hider reward | final lesson (index) | fort rate, last 100 episodes | minutes |"
+  echo "| seed | arm | hider reward, last 10 updates | final lesson (index) | fort rate, last 100 episodes | minutes |"
   echo "|---|---|---|---|---|---|"
 } > "$report"
 for seed in $SEEDS; do
@@ -32,7 +32,8 @@ for seed in $SEEDS; do
     run=$RESULTS/rq1_${arm}_s$seed
     hider=$run/metrics/Hider.csv
     episodes=$run/metrics/episodes.csv
-    reward=$(awk -F, 'NR > 1 && $3 > 0 { r = $4 } END { printf "%.3f", r }' "$hider")
+    # mean return over the episodes of the last 10 updates (one update's are too few)
+    reward=$(tail -n 10 "$hider" | awk -F, '$3 > 0 { r += $3 * $4; n += $3 } END { printf "%.3f", r / n }')
     # the lesson index in the level curriculum; the control arm has no curriculum
     lesson=$({ grep -o '"level": [0-9]*' "$run/training_status.json" || true; } | awk '{ print $2 }')
     fort=$(tail -n 100 "$episodes" | awk -F, -v c="$(column fort_rate "$episodes")" \

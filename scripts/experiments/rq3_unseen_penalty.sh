@@ -21,7 +21,7 @@ report=$REPORTS/rq3_unseen_penalty.md
   echo "default configuration with and without \`--param unseen_reward=$PENALTY\`, $STEPS steps per"
   echo "behavior, seeds: $SEEDS."
   echo
-  echo "| seed | seekers | chasing emerged at (seeker steps) | tag rate when they stopped | final seeker reward |"
+  echo "| seed | seekers | chasing emerged at (seeker steps) | tag rate when they stopped | seeker reward, last 10 updates |"
   echo "|---|---|---|---|---|"
 } > "$report"
 for seed in $SEEDS; do
@@ -35,7 +35,9 @@ for seed in $SEEDS; do
     rate=$(awk -F, -v s="$(column Seeker_step "$episodes")" -v steps="$STEPS" \
       -v c="$(column smoothed_tag_rate_running_and_chasing "$episodes")" \
       'NR > 1 && $s >= steps && !done { printf "%.2f", $c; done = 1 }' "$episodes")
-    reward=$(awk -F, 'NR > 1 && $3 > 0 { r = $4 } END { printf "%.3f", r }' "$RESULTS/$run_id/metrics/Seeker.csv")
+    # mean return over the episodes of the seekers' last 10 updates (one update's are too few)
+    reward=$(tail -n 10 "$RESULTS/$run_id/metrics/Seeker.csv" |
+      awk -F, '$3 > 0 { r += $3 * $4; n += $3 } END { printf "%.3f", r / n }')
     echo "| $seed | $arm | $(emerged "$run_id" running_and_chasing) | $rate | $reward |" >> "$report"
   done
   {
