@@ -41,6 +41,9 @@ for seed in $SEEDS; do
     minutes=$(awk -F, 'END { printf "%.0f", $2 / 60 }' "$hider")
     echo "| $seed | $arm | $reward | ${lesson:-fixed 4} | $fort | $minutes |" >> "$report"
   done
+done
+# then, per seed, the evaluations and the plots (after the whole table)
+for seed in $SEEDS; do
   # The rewards differ in kind between the arms (the curriculum's come from easier levels), so
   # both arms' final hiders also play level 4 against the same seekers.
   {

@@ -40,6 +40,9 @@ for seed in $SEEDS; do
       awk -F, '$3 > 0 { r += $3 * $4; n += $3 } END { printf "%.3f", r / n }')
     echo "| $seed | $arm | $(emerged "$run_id" running_and_chasing) | $rate | $reward |" >> "$report"
   done
+done
+# then, per seed, the evaluations and the plots (after the whole table)
+for seed in $SEEDS; do
   {
     echo
     echo "Seed $seed, the final seekers against the same hiders ($EVAL_EPISODES episodes each, \`rlt eval RUN"
