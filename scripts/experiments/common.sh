@@ -43,6 +43,12 @@ column() {
   head -n 1 "$2" | tr ',' '\n' | grep -n -x "$1" | cut -d: -f1
 }
 
+# recent_return CSV: a behavior's mean return over the episodes of its last 10 updates
+# (metrics/BEHAVIOR.csv: episodes in column 3, mean return in column 4; one update's are too few)
+recent_return() {
+  tail -n 10 "$1" | awk -F, '$3 > 0 { r += $3 * $4; n += $3 } END { printf "%.3f", r / n }'
+}
+
 # json_number LINE KEY: KEY's number in the one-line JSON object LINE (rlt eval --json), to two
 # decimals
 json_number() {

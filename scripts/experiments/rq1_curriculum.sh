@@ -18,11 +18,10 @@ report=$REPORTS/rq1_curriculum.md
   echo "Produced by \`scripts/experiments/rq1_curriculum.sh\` on $(date -u +%Y-%m-%d), $STEPS steps"
   echo "per behavior, seeds: $SEEDS. Curriculum: \`configs/hide_and_seek.yaml\`; no curriculum:"
   echo "\`configs/experiments/rq1_no_curriculum.yaml\` (the default with its curriculum frozen at the"
-  echo "last lesson: level 4 throughout). The curriculum's lessons 0-5 are level 1 (the prop moving from"
-  echo "its doorway half way to its own place), 6-17 level 2 (two props, from their doorways to their"
-  echo "own places), 18 level 3 and 19 level 4."
+  echo "last lesson: level 4 throughout). Lesson levelN_props_XXX is level N with the props starting"
+  echo "XXX/100 of the way from their doorways to their own places."
   echo
-  echo "| seed | arm | hider reward, last 10 updates | final lesson (index) | fort rate, last 100 episodes | minutes |"
+  echo "| seed | arm | hider reward, last 10 updates | final lesson | fort rate, last 100 episodes | minutes |"
   echo "|---|---|---|---|---|---|"
 } > "$report"
 for seed in $SEEDS; do
@@ -32,10 +31,11 @@ for seed in $SEEDS; do
     run=$RESULTS/rq1_${arm}_s$seed
     hider=$run/metrics/Hider.csv
     episodes=$run/metrics/episodes.csv
-    # mean return over the episodes of the last 10 updates (one update's are too few)
-    reward=$(tail -n 10 "$hider" | awk -F, '$3 > 0 { r += $3 * $4; n += $3 } END { printf "%.3f", r / n }')
-    # the lesson index in the level curriculum; the control arm has no curriculum
+    reward=$(recent_return "$hider")
+    # the lesson reached in the level curriculum, by name (the control arm has no curriculum)
     lesson=$({ grep -o '"level": [0-9]*' "$run/training_status.json" || true; } | awk '{ print $2 }')
+    [ -z "$lesson" ] ||
+      lesson=$(grep -o 'name: level[^ ]*' "$run/configuration.yaml" | sed -n "$((lesson + 1))p" | cut -d' ' -f2)
     fort=$(tail -n 100 "$episodes" | awk -F, -v c="$(column fort_rate "$episodes")" \
       '{ f += $c } END { printf "%.2f", f / NR }')
     minutes=$(awk -F, 'END { printf "%.0f", $2 / 60 }' "$hider")

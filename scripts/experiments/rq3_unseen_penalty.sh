@@ -35,9 +35,7 @@ for seed in $SEEDS; do
     rate=$(awk -F, -v s="$(column Seeker_step "$episodes")" -v steps="$STEPS" \
       -v c="$(column smoothed_tag_rate_running_and_chasing "$episodes")" \
       'NR > 1 && $s >= steps && !done { printf "%.2f", $c; done = 1 }' "$episodes")
-    # mean return over the episodes of the seekers' last 10 updates (one update's are too few)
-    reward=$(tail -n 10 "$RESULTS/$run_id/metrics/Seeker.csv" |
-      awk -F, '$3 > 0 { r += $3 * $4; n += $3 } END { printf "%.3f", r / n }')
+    reward=$(recent_return "$RESULTS/$run_id/metrics/Seeker.csv")
     echo "| $seed | $arm | $(emerged "$run_id" running_and_chasing) | $rate | $reward |" >> "$report"
   done
 done
