@@ -174,14 +174,17 @@ enum class CompletionMeasure { kReward, kProgress, kMetric };
 
 // When a lesson is complete (ML-Agents' CompletionCriteriaSettings).
 struct CompletionCriteria {
-  // the behavior whose progress or rewards are measured (required for reward and progress)
+  // the behavior whose progress or rewards are measured (required for reward and progress); with
+  // metric (optional) only the episodes that behavior learned from throughout count (in
+  // self-play, those played entirely in its turns)
   std::string behavior;
   // reward: mean episode reward of the behavior since the lesson began; progress: steps /
   // max_steps; metric (our extension): mean of the env's episode metric `metric` over the episodes
   // played entirely in the lesson (e.g. HideAndSeek's fort_rate), so a lesson can wait for a skill
   CompletionMeasure measure = CompletionMeasure::kReward;
   std::string metric;            // measure metric: a key of the env's episode metrics
-  int min_lesson_length = 0;     // episodes (of `behavior`; metric: env episodes) before it may end
+  int min_lesson_length = 0;     // episodes (of `behavior`; metric: the counted env episodes)
+                                 // before it may end
   bool signal_smoothing = true;  // reward, metric: 0.25 * previous smoothed value + 0.75 * mean
   double threshold = 0.0;        // the measure must exceed it; progress: in [0, 1]
   bool require_reset = false;    // reset every environment as soon as the lesson ends

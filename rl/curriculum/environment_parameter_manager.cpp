@@ -97,6 +97,11 @@ double read_number(const YAML::Node& node, const std::string& what) {
   return value;
 }
 
+// The key of a metric criterion's buffer: the metric, then "@behavior" when it names one.
+std::string metric_key(const std::string& metric, const std::string& behavior) {
+  return behavior.empty() ? metric : metric + "@" + behavior;
+}
+
 }  // namespace
 
 EnvironmentParameterManager::EnvironmentParameterManager(
@@ -109,7 +114,9 @@ EnvironmentParameterManager::EnvironmentParameterManager(
       if (!lesson.completion_criteria) continue;
       const CompletionCriteria& criteria = *lesson.completion_criteria;
       const bool metric = criteria.measure == CompletionMeasure::kMetric;
-      const std::string& key = metric ? criteria.metric : criteria.behavior;
+      const std::string key =
+          metric ? metric_key(criteria.metric, criteria.behavior) : criteria.behavior;
+      if (metric) metric_sources_[key] = MetricSource{criteria.metric, criteria.behavior};
       int& capacity = (metric ? metric_capacity_ : capacity_)[key];
       capacity = std::max({capacity, 1, criteria.min_lesson_length});
       (metric ? metrics_ : rewards_)[key];
@@ -180,12 +187,23 @@ void EnvironmentParameterManager::add_episode_reward(const std::string& behavior
   record(capacity_, rewards_, behavior, reward);
 }
 
-void EnvironmentParameterManager::add_episode_metrics(const std::map<std::string, float>& metrics) {
-  for (const auto& [name, value] : metrics) record(metric_capacity_, metrics_, name, value);
+void EnvironmentParameterManager::add_episode_metrics(
+    const std::map<std::string, float>& metrics,
+    const std::vector<std::string>& learned_throughout) {
+  for (const auto& [key, source] : metric_sources_) {
+    const auto value = metrics.find(source.metric);
+    if (value == metrics.end()) continue;
+    if (!source.behavior.empty() &&
+        std::find(learned_throughout.begin(), learned_throughout.end(), source.behavior) ==
+            learned_throughout.end())
+      continue;
+    record(metric_capacity_, metrics_, key, value->second);
+  }
 }
 
-std::vector<double> EnvironmentParameterManager::metric_buffer(const std::string& metric) const {
-  return as_vector(metrics_, metric);
+std::vector<double> EnvironmentParameterManager::metric_buffer(const std::string& metric,
+                                                               const std::string& behavior) const {
+  return as_vector(metrics_, metric_key(metric, behavior));
 }
 
 void EnvironmentParameterManager::check_metric_names(const std::vector<std::string>& names) const {
@@ -235,7 +253,8 @@ LessonUpdate EnvironmentParameterManager::update(
     const auto behavior = progress.find(criteria.behavior);
     if (!metric && behavior == progress.end()) continue;
     const std::deque<double>& values =
-        metric ? metrics_.at(criteria.metric) : rewards_.at(criteria.behavior);
+        metric ? metrics_.at(metric_key(criteria.metric, criteria.behavior))
+               : rewards_.at(criteria.behavior);
     if (int(values.size()) < criteria.min_lesson_length) continue;
 
     bool complete = false;

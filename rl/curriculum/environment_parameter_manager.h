@@ -11,8 +11,11 @@
 // - Our extension, `measure: metric`: the same kind of buffer per env episode metric that some
 //   criteria measure (e.g. HideAndSeek's fort_rate), fed with the env's finished episodes. The
 //   caller decides which episodes count (training feeds only those played entirely in the
-//   current lessons). The mean, smoothing and threshold work as for rewards; min_lesson_length
-//   counts those episodes.
+//   current lessons). A metric criterion that names a `behavior` has a buffer of its own, fed
+//   only with the episodes that behavior learned from throughout (in self-play, the ones played
+//   entirely in its turns): the reward buffers hold only the learning team's episodes too, since
+//   the trainers see no others. The mean, smoothing and threshold work as for rewards;
+//   min_lesson_length counts those episodes.
 // - Our extension, a lesson's `other_parameters`: sample() also draws the other parameters of
 //   each curriculum's current lesson, so one curriculum moves several parameters together.
 // - update() looks at every curriculum parameter that is not at its last lesson: a lesson whose
@@ -83,10 +86,14 @@ class EnvironmentParameterManager {
   std::vector<double> reward_buffer(const std::string& behavior) const;
   int reward_buffer_capacity(const std::string& behavior) const;
   // Records the episode metrics of one finished env episode: the ones some criterion measures, when
-  // finite.
-  void add_episode_metrics(const std::map<std::string, float>& metrics);
-  // The values recorded for metric `metric` since the last lesson change, oldest first.
-  std::vector<double> metric_buffer(const std::string& metric) const;
+  // finite. `learned_throughout`: the behaviors whose policies learned from the whole episode;
+  // criteria that name a behavior not in it leave the episode out.
+  void add_episode_metrics(const std::map<std::string, float>& metrics,
+                           const std::vector<std::string>& learned_throughout = {});
+  // The values recorded since the last lesson change for the criteria that measure `metric` and
+  // name `behavior` (empty: name none), oldest first.
+  std::vector<double> metric_buffer(const std::string& metric,
+                                    const std::string& behavior = "") const;
   // Throws std::invalid_argument naming the parameter and lesson when a criterion measures an
   // episode metric that is not in `names` (the env's; see VectorEnv::episode_metric_names).
   void check_metric_names(const std::vector<std::string>& names) const;
@@ -121,8 +128,15 @@ class EnvironmentParameterManager {
   std::map<std::string, ParameterState> state_;        // curriculum parameters only
   std::map<std::string, int> capacity_;                // reward buffer size per measured behavior
   std::map<std::string, std::deque<double>> rewards_;  // per measured behavior, oldest first
-  std::map<std::string, int> metric_capacity_;         // buffer size per measured metric
-  std::map<std::string, std::deque<double>> metrics_;  // per measured metric, oldest first
+  // Metric buffers are keyed by metric_key(): the metric, and the behavior when the criterion names
+  // one.
+  struct MetricSource {
+    std::string metric;
+    std::string behavior;  // empty: every episode counts
+  };
+  std::map<std::string, MetricSource> metric_sources_;  // per buffer key
+  std::map<std::string, int> metric_capacity_;         // buffer size per key
+  std::map<std::string, std::deque<double>> metrics_;  // per key, oldest first
 };
 
 }  // namespace rlt

@@ -66,6 +66,12 @@ bool SelfPlay::is_learning(int behavior, int group) const {
   return t.behavior == behavior && t.group == group;
 }
 
+bool SelfPlay::learns(int behavior) const {
+  const bool self_play = std::any_of(pools_.begin(), pools_.end(),
+                                     [&](const Pool& p) { return p.behavior == behavior; });
+  return teams_.empty() || !self_play || teams_[learning_team_].behavior == behavior;
+}
+
 void SelfPlay::select_rows(const std::vector<BehaviorBuffers*>& buffers,
                            std::vector<std::vector<uint8_t>>& learner_rows) {
   // discover the teams of self-play behaviors from the agents present
@@ -171,6 +177,7 @@ void SelfPlay::after_step(const std::vector<BehaviorBuffers*>& buffers,
     if (next != learning_team_ && !(learner_done && trainers_[teams_[next].behavior]->finished())) {
       learning_team_ = next;
       last_team_change_ = trainers_[teams_[learning_team_].behavior]->step();
+      ++team_changes_;
       swap = true;
     }
   }

@@ -58,6 +58,12 @@ class SelfPlay {
   std::string learning_team_name() const;
   // the learning behavior's self_play.turn_parameters (empty without self-play)
   const std::map<std::string, float>& turn_parameters() const;
+  // whether behavior b learns now: one of its teams is the learning team (behaviors without
+  // self_play always learn, and every behavior does before the teams are known)
+  bool learns(int behavior) const;
+  // how often the learning team has changed since this object was made (not saved: counts turns
+  // within one process, e.g. to tell whether an episode was played in one turn)
+  int64_t team_changes() const { return team_changes_; }
 
   void save(torch::serialize::OutputArchive& archive) const;
   void load(torch::serialize::InputArchive& archive);
@@ -98,6 +104,7 @@ class SelfPlay {
   std::vector<Team> teams_;     // sorted by (behavior, group)
   int learning_team_ = 0;       // index into teams_
   int64_t last_team_change_ = 0;  // learning behavior's steps at the last change
+  int64_t team_changes_ = 0;
   int64_t ghost_steps_ = 0, last_swap_ = 0;  // opponent decisions
   std::mt19937_64 rng_;
   std::vector<uint8_t> opponent_rows_;  // scratch

@@ -122,6 +122,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   env_->set_parameters(parameters_.sample(parameter_rng_));
   env_->reset();
   episode_epoch_.assign(env_->num_envs(), 0);
+  episode_turn_.assign(env_->num_envs(), 0);
   try {
     parameters_.check_metric_names(env_->episode_metric_names());
   } catch (const std::invalid_argument& e) {
@@ -438,6 +439,7 @@ void TrainingRun::sample_all_parameters() {
   if (parameters_.empty() && turn_fallback_.empty()) return;
   for (int i = 0; i < env_->num_envs(); ++i) env_->set_parameters(i, next_parameters());
   std::fill(episode_epoch_.begin(), episode_epoch_.end(), lesson_epoch_);
+  std::fill(episode_turn_.begin(), episode_turn_.end(), self_play_->team_changes());
 }
 
 void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished,
@@ -451,9 +453,18 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
   for (int b = 0; b < num_trainers(); ++b)
     for (float r : episodes[b].returns) parameters_.add_episode_reward(trainers_[b]->behavior(), r);
   // a metric measures the lesson it was played in: episodes begun before the last change are left
-  // out
-  for (const auto& f : finished)
-    if (episode_epoch_[f.env_index] == lesson_epoch_) parameters_.add_episode_metrics(f.metrics);
+  // out. Criteria that name a behavior count an episode only when that behavior learned from all
+  // of it: with self-play, an episode played entirely in one of its turns (the other team's turns
+  // may be played in another setting, their turn_parameters)
+  std::vector<std::string> learners;
+  for (const auto& f : finished) {
+    if (episode_epoch_[f.env_index] != lesson_epoch_) continue;
+    learners.clear();
+    if (episode_turn_[f.env_index] == self_play_->team_changes())
+      for (int b = 0; b < num_trainers(); ++b)
+        if (self_play_->learns(b)) learners.push_back(trainers_[b]->behavior());
+    parameters_.add_episode_metrics(f.metrics, learners);
+  }
   std::map<std::string, BehaviorProgress> progress;
   for (auto& t : trainers_) progress[t->behavior()] = {t->step(), t->config().max_steps};
   // data-parallel: rank 0 decides; the others moved to its lessons in sync_ranks
@@ -473,6 +484,7 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
   for (const auto& f : finished) {
     env_->set_parameters(f.env_index, next_parameters());
     episode_epoch_[f.env_index] = lesson_epoch_;
+    episode_turn_[f.env_index] = self_play_->team_changes();
   }
 }
 

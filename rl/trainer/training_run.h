@@ -143,6 +143,7 @@ class TrainingRun {
   int64_t lesson_epoch_ = 0;   // lesson changes so far
   std::vector<int64_t>
       episode_epoch_;  // per env instance: lesson_epoch_ when its episode's parameters were drawn
+  std::vector<int64_t> episode_turn_;  // per env instance: self-play team changes then
   double elapsed_before_ = 0;  // seconds trained before a resume
   std::chrono::steady_clock::time_point start_;
   std::vector<int64_t> next_summary_, next_checkpoint_;  // per behavior

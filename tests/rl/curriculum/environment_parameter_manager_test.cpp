@@ -421,6 +421,40 @@ TEST(EnvironmentParameterManagerTest, MetricMeasureAdvancesOnTheEpisodeMetric) {
   EXPECT_TRUE(manager.reward_buffer("Jumper").empty());
 }
 
+// A metric criterion that names a behavior counts only the episodes that behavior learned from
+// throughout (in self-play, those of its own turns); one that names none counts every episode.
+TEST(EnvironmentParameterManagerTest, MetricCriteriaNamingABehaviorCountItsEpisodesOnly) {
+  CompletionCriteria hiders;
+  hiders.behavior = "Hider";
+  hiders.measure = CompletionMeasure::kMetric;
+  hiders.metric = "fort_rate";
+  hiders.threshold = 0.5;
+  hiders.min_lesson_length = 2;
+  hiders.signal_smoothing = false;
+  CompletionCriteria anyone = hiders;
+  anyone.behavior.clear();
+  anyone.min_lesson_length = 10;  // its buffer keeps the last 10
+  EnvironmentParameterManager manager(
+      {{"level", curriculum({lesson("One", 1.f, hiders), lesson("Two", 2.f, anyone),
+                             lesson("Three", 3.f)})}});
+  manager.add_episode_metrics({{"fort_rate", 1.f}}, {"Hider"});
+  manager.add_episode_metrics({{"fort_rate", 0.f}}, {"Seeker"});  // the seekers' turn
+  manager.add_episode_metrics({{"fort_rate", 0.f}});              // turns changed during it
+  EXPECT_EQ(manager.metric_buffer("fort_rate", "Hider"), (std::vector<double>{1}));
+  EXPECT_EQ(manager.metric_buffer("fort_rate"), (std::vector<double>{1, 0, 0}));
+  EXPECT_FALSE(manager.update({}).changed);  // one of the hiders' episodes < min_lesson_length 2
+  manager.add_episode_metrics({{"fort_rate", 1.f}}, {"Seeker", "Hider"});
+  // counted over every episode, {1, 0, 0, 1} would not pass 0.5; the hiders' {1, 1} does
+  EXPECT_TRUE(manager.update({}).changed);
+  EXPECT_EQ(manager.lesson_names().at("level"), "Two");
+  // the state carries the behavior's buffer over a resume
+  manager.add_episode_metrics({{"fort_rate", 0.25f}}, {"Hider"});
+  EnvironmentParameterManager resumed(manager.settings());
+  resumed.deserialize(manager.serialize());
+  EXPECT_EQ(resumed.metric_buffer("fort_rate", "Hider"), (std::vector<double>{0.25}));
+  EXPECT_EQ(resumed.metric_buffer("fort_rate"), (std::vector<double>{0.25}));
+}
+
 // a lesson's other_parameters are set with its own value and change with the lesson
 TEST(EnvironmentParameterManagerTest, LessonsSetTheirOtherParameters) {
   Lesson first = lesson("One", 1.f, reward_criteria("Jumper", 0.5, 1));

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -123,7 +124,7 @@ class TurnEchoEnv : public Env {
       b.action.discrete_branches = {2};
       spec_.behaviors.push_back(b);
     }
-    spec_.default_parameters = {{"x", 0.f}};
+    spec_.default_parameters = {{"x", 0.f}, {"level", 0.f}};  // level: for curricula only
   }
   const EnvSpec& spec() const override { return spec_; }
   void seed(uint64_t) override {}
@@ -596,8 +597,9 @@ TEST_F(TrainingRunTest, UnknownBehaviorOrParameterIsAnErrorBeforeWriting) {
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
 }
 
-// Red and Blue take turns; Blue's turns play with x = 7, Red's with env_settings' x = 2
-RunConfig turn_config(const std::string& blue_turn) {
+// Red and Blue take turns; Blue's turns play with x = 7, Red's with env_settings' x = 2.
+// `curriculum`: an environment_parameters block, if any.
+RunConfig turn_config(const std::string& blue_turn, const std::string& curriculum = "") {
   std::ostringstream y;
   y << "default_settings:\n"
     << "  trainer_type: ppo\n"
@@ -608,7 +610,8 @@ RunConfig turn_config(const std::string& blue_turn) {
     << "behaviors:\n  Red: {}\n"
     << "  Blue:\n    self_play: {save_steps: 100, team_change: 300, swap_steps: 50, window: 2,\n"
     << "                turn_parameters: {" << blue_turn << "}}\n"
-    << "env_settings: {env_id: TurnEchoEnv, num_envs: 3, seed: 2, params: {x: 2}}\n";
+    << "env_settings: {env_id: TurnEchoEnv, num_envs: 3, seed: 2, params: {x: 2}}\n"
+    << curriculum;
   return load_run_config_from_string(y.str(), "turns.yaml");
 }
 
@@ -632,6 +635,32 @@ TEST_F(TrainingRunTest, TurnParametersHoldWhileTheirBehaviorLearns) {
   EXPECT_GT(red[2.f], 100);
   EXPECT_LE(blue[2.f] + red[7.f], 3 * 8);
   EXPECT_EQ(blue.size() + red.size(), 4u) << "x took values other than 2 and 7";
+}
+
+// A lesson measured on an episode metric for one behavior counts only the episodes of that
+// behavior's turns: Blue's turns play x = 7 (its turn_parameters), which says nothing of how Red
+// does in its own setting (x = 2). A criterion that names no behavior counts both.
+TEST_F(TrainingRunTest, MetricLessonsOfABehaviorCountOnlyItsTurns) {
+  const std::string lessons =
+      "environment_parameters:\n  level:\n    curriculum:\n"
+      "      - name: red\n        value: 0\n"
+      "        completion_criteria: {behavior: Red, measure: metric, metric: x, threshold: 100,"
+      " min_lesson_length: 1000}\n"
+      "      - name: anyone\n        value: 1\n"
+      "        completion_criteria: {measure: metric, metric: x, threshold: 100,"
+      " min_lesson_length: 1000}\n"
+      "      - name: last\n        value: 2\n";
+  TrainingRun run(turn_config("x: 7", lessons), options("turn_lessons"));
+  run.train();
+  const std::vector<double> red = run.parameters().metric_buffer("x", "Red");
+  const std::vector<double> all = run.parameters().metric_buffer("x");
+  EXPECT_GT(red.size(), 100u);
+  for (double x : red) ASSERT_EQ(x, 2.0) << "an episode of Blue's turns was counted for Red";
+  EXPECT_GT(std::count(all.begin(), all.end(), 7.0), 100);
+  EXPECT_GT(std::count(all.begin(), all.end(), 2.0), 100);
+  // the episodes that ended in a turn other than the one they began in, and only they, are in
+  // neither turn's count
+  EXPECT_LE(all.size() - red.size() - size_t(std::count(all.begin(), all.end(), 7.0)), 3u * 8u);
 }
 
 TEST_F(TrainingRunTest, BadTurnParametersAreErrorsBeforeWriting) {
