@@ -13,6 +13,8 @@ event of each episode and prints, averaged over the episodes:
   where it ended, for episodes with a fort (every opening closed) and without; and, over the
   frames in which such a prop was held, how often the panel was between the drone and that
   opening (the panel goes first) and how often it moved towards the opening rather than away;
+- per paired prop, by its place among the props (with prop_pairing prop k is the k-th hider's
+  own), the share of episodes in which it ended the prep phase locked near its opening;
 - what the closed openings bought in the test phase: by how many openings were closed at the end
   of the prep phase, the episodes, the share in which a hider was tagged and the hidden fraction.
 Distances are horizontal (x, z), in metres.
@@ -73,6 +75,7 @@ def main(path):
     ways = {True: [], False: []}  # fort -> (straight, path, end) per prop
     carried = Counter()  # held frames of paired props: "frames", "panel_first", "moved", "towards"
     by_closed = {}  # openings closed at the end of the prep phase -> [(tagged, hidden fraction)]
+    locked_at_opening = Counter()  # k -> episodes in which paired prop k ended locked near its opening
     for episode in episodes:
         # pose row of each dynamic body, and of each prop's
         body_row = {body: row for row, body in enumerate(episode["dynamic_bodies"])}
@@ -113,9 +116,10 @@ def main(path):
         fort = metrics.get("fort_rate", 0) == 1
         closed = int(round(metrics.get("openings_closed", 0)))
         by_closed.setdefault(closed, []).append((metrics.get("tag_rate", 0), metrics.get("hidden_fraction", 0)))
-        for p, centre in paired.items():
+        for k, (p, centre) in enumerate(sorted(paired.items())):
             start, end = frames[0]["poses"][rows[p]], frames[-1]["poses"][rows[p]]
             ways[fort].append((horizontal(start, centre), travelled[p], horizontal(end, centre)))
+            locked_at_opening[k] += state[p] == "locked" and horizontal(end, centre) < NEAR_OPENING
 
     n = len(episodes)
     print(f"{n} episodes, per episode in the prep phase:")
@@ -141,6 +145,9 @@ def main(path):
             f"{carried['panel_first'] / carried['frames']:.2f} of the frames; moving towards the "
             f"opening in {carried['towards'] / max(1, carried['moved']):.2f} of those it moved in"
         )
+    if locked_at_opening:
+        shares = ", ".join(f"prop {k} in {locked_at_opening[k] / n:.2f}" for k in sorted(locked_at_opening))
+        print(f"  locked within {NEAR_OPENING} m of its opening when the prep phase ended: {shares} of the episodes")
     print("by openings closed at the end of the prep phase:")
     for closed, outcomes in sorted(by_closed.items()):
         tagged = sum(t for t, _ in outcomes) / len(outcomes)

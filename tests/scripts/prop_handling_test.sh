@@ -1,7 +1,7 @@
 #!/bin/sh
 # scripts/prop_handling.py on two episodes of the scripted hider at level 1 (one grab and one lock
-# per episode, both locks at the doorway, both forts built, the panel pushed ahead of the drone,
-# both episodes counted with one opening closed),
+# per episode, both locks at the doorway and the prop locked there at the end, both forts built,
+# the panel pushed ahead of the drone, both episodes counted with one opening closed),
 # and on a file that is not a recording.
 # Usage: prop_handling_test.sh RLT_BINARY SCRIPT PYTHON
 set -eu
@@ -18,6 +18,7 @@ echo "$out" | grep -q "grab 1.0, lock 1.0, unlock 0.0"
 echo "$out" | grep -q "locks within 0.8 m of an open opening: 2 of 2"
 echo "$out" | grep -q "props with a fort (2)"
 echo "$out" | grep -Eq "the panel between the drone and its opening in (0\.9[0-9]|1\.00) of the frames"
+echo "$out" | grep -q "locked within 0.8 m of its opening when the prep phase ended: prop 0 in 1.00 of the episodes"
 echo "$out" | grep -q "1 closed: 2 episodes, tagged in 0.00"
 echo '{}' > "$dir/not_a_recording.json"
 if "$python" "$script" "$dir/not_a_recording.json" 2> "$dir/error"; then
