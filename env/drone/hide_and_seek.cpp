@@ -111,6 +111,7 @@ struct HideAndSeek::Settings {
   // level 2: 0 = prop i gets the i-th own place drawn; 1 = the places go to the props so that the
   // ways from doorway i to prop i are least in total (paired_level2_starts)
   int prop_pairing = 0;
+  int owner_shift = 0;
   bool prop_cues = true;  // vector [18, 20) and the hiders' masks say what prop actions would do
   bool object_obs = true;  // the "objects" observation (else zeros)
   bool sensor_obs = true;  // the rays and both grids (else zeros)
@@ -190,6 +191,7 @@ HideAndSeek::HideAndSeek()
       {"prop_start_offset", 1.f},
       {"prop_start_spread", 0.f},
       {"prop_pairing", 0.f},
+      {"owner_shift", 0.f},
       {"prop_cues", 1.f},
       {"object_obs", 1.f},
       {"sensor_obs", 1.f},
@@ -339,6 +341,7 @@ void HideAndSeek::build_episode() {
   s.prop_start_offset = drone::float_parameter(*this, "prop_start_offset", 0.0f, 1.0f);
   s.prop_start_spread = drone::float_parameter(*this, "prop_start_spread", 0.0f, 1.0f);
   s.prop_pairing = drone::int_parameter(*this, "prop_pairing", 0, 1);
+  s.owner_shift = drone::int_parameter(*this, "owner_shift", 0, 3);
   s.prop_cues = drone::int_parameter(*this, "prop_cues", 0, 1) == 1;
   s.object_obs = drone::int_parameter(*this, "object_obs", 0, 1) == 1;
   s.sensor_obs = drone::int_parameter(*this, "sensor_obs", 0, 1) == 1;
@@ -813,10 +816,10 @@ void HideAndSeek::check_openings(StepView& io) {
     if (!agent(kHider, h).present) continue;
     float paid = reward;
     if (s.close_credit == 1) {
-      // opening o is owned by the hiders with h mod num_open = o, if there are any
+      // opening o is owned by the hiders with (h + owner_shift) mod num_open = o, if there are any
       paid = 0.0f;
       for (int o = 0; o < num_open; ++o)
-        if (o >= num_agents_[kHider] || h % num_open == o) paid += of_opening[o];
+        if (o >= num_agents_[kHider] || (h + s.owner_shift) % num_open == o) paid += of_opening[o];
     }
     if (paid != 0.0f) io[kHider].reward(h) += paid;
   }
@@ -975,12 +978,13 @@ void HideAndSeek::write_objects(float* out, const Agent& a) const {
     o[1] = clip1(delta.y() * scale);
     o[2] = clip1(delta.dot(fwd) * scale);
   };
-  // each agent's own first: entry k is prop (k + slot) mod n of the level's n (and so for the
-  // openings), so teammates that learned to take the first prop to the first opening take
+  // each agent's own first: entry k is prop (k + slot + owner_shift) mod n of the level's n (and
+  // so for the openings), so teammates that learned to take the first prop to the first opening take
   // different ones
   const int num_props = std::min(props_->size(), kMaxProps);
   const int num_open = arena_->num_open();
-  const auto own_first = [&](int k, int n) { return k < n ? (k + a.slot) % n : k; };
+  const int shift = settings_->owner_shift;
+  const auto own_first = [&](int k, int n) { return k < n ? (k + a.slot + shift) % n : k; };
   for (int k = 0; k < num_props; ++k) {
     const drone::Prop& prop = (*props_)[own_first(k, num_props)];
     float* o = out + k * kPropFloats;

@@ -120,7 +120,9 @@
 //    prop (and opening) (k + slot) mod n, in arena.h's order, entries from n on are the rest in
 //    order; so hiders that learned at level 1 to take the first prop to the first opening take
 //    different props to different openings at level 2 (with one list for all they went for the
-//    same prop).
+//    same prop). `owner_shift` s (0-3, default 0) makes it prop (k + slot + s) mod n, and so
+//    hands each hider another's prop and opening (at level 2, s = 1 swaps them): with a trained
+//    policy it tells a weak hider from a hard doorway.
 //    The rays and grids see panels and holes only as "prop" and "wall" hits around the agent;
 //    with these the hiders learn to bring a prop to a doorway far sooner (docs/results).
 //  "rays" [119]: RaySensor with its defaults (17 rays over 360 degrees, 20 m, sphere radius 0.3);

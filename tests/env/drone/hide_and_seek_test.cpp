@@ -538,23 +538,25 @@ TEST(HideAndSeekTest, ObjectsObservationPlacesPropsOpeningsAndTheTeammate) {
   o = objects(0);
   EXPECT_EQ(o[4], 1.0f);
   EXPECT_EQ(o[kOpenings + 4], 1.0f);
-  // level 2: each hider's lists start with its own prop and opening (hider h: prop and opening h)
-  {
-    Game two({{"level", 2.f}, {"num_hiders", 2.f}, {"num_seekers", 1.f}});
+  // level 2: each hider's lists start with its own prop and opening (hider h: prop and opening h;
+  // with owner_shift 1 the other's)
+  for (const int shift : {0, 1}) {
+    Game two({{"level", 2.f}, {"num_hiders", 2.f}, {"num_seekers", 1.f},
+              {"owner_shift", float(shift)}});
     two.idle_step();
     for (int h = 0; h < 2; ++h) {
       const auto& d = *two.env.agent(HideAndSeek::kHider, h).drone;
       const float* o = two.hiders().observations[1].data() + h * HideAndSeek::kObjectsSize;
       for (int k = 0; k < 4; ++k) {
-        const int own = k < 2 ? (k + h) % 2 : k;
+        const int own = k < 2 ? (k + h + shift) % 2 : k;
         const btVector3 to_opening = two.env.arena().openings()[own].centre - d.position();
         EXPECT_NEAR(o[kOpenings + k * HideAndSeek::kOpeningFloats + 2],
                     to_opening.dot(d.forward()) * kScale, 1e-3f)
-            << "hider " << h << ", entry " << k;
+            << "hider " << h << ", entry " << k << ", shift " << shift;
         if (k >= 2) continue;
         const btVector3 to_prop = two.env.props()[own].position() - d.position();
         EXPECT_NEAR(o[k * HideAndSeek::kPropFloats], to_prop.dot(d.right()) * kScale, 1e-3f)
-            << "hider " << h << ", prop entry " << k;
+            << "hider " << h << ", prop entry " << k << ", shift " << shift;
       }
     }
   }
@@ -893,12 +895,13 @@ TEST(HideAndSeekTest, OwnCloseCreditPaysEachHiderForItsOwnOpening) {
   struct Paid {
     float hider0, hider1;
   };
-  const auto lock_last_doorway = [](float level, float credit) {
+  const auto lock_last_doorway = [](float level, float credit, float shift = 0.f) {
     Game g({{"level", level},
             {"prop_start_offset", 0.f},
             {"close_reward", 0.5f},
             {"close_reward_mode", 2.f},
-            {"close_credit", credit}},
+            {"close_credit", credit},
+            {"owner_shift", shift}},
            3);
     g.idle_step();
     const int door = int(level) - 1;
@@ -920,6 +923,10 @@ TEST(HideAndSeekTest, OwnCloseCreditPaysEachHiderForItsOwnOpening) {
   // only settling) to hider 0
   EXPECT_NEAR(own.hider0 + own.hider1, team.hider0, 1e-5f);
   EXPECT_NEAR(own.hider0, 0.0f, 1e-3f);
+  // owner_shift 1 hands doorway 1 to hider 0
+  const Paid shifted = lock_last_doorway(2.f, 1.f, 1.f);
+  EXPECT_NEAR(shifted.hider0, own.hider1, 1e-5f);
+  EXPECT_NEAR(shifted.hider1, own.hider0, 1e-5f);
   // level 1: the one doorway is both hiders' own
   const Paid one_team = lock_last_doorway(1.f, 0.f), one_own = lock_last_doorway(1.f, 1.f);
   EXPECT_GT(one_own.hider0, 0.2f);
