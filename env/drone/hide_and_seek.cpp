@@ -979,8 +979,8 @@ void HideAndSeek::write_objects(float* out, const Agent& a) const {
     o[2] = clip1(delta.dot(fwd) * scale);
   };
   // each agent's own first: entry k is prop (k + slot + owner_shift) mod n of the level's n (and
-  // so for the openings), so teammates that learned to take the first prop to the first opening take
-  // different ones
+  // so for the openings), so teammates that learned to take the first prop to the first opening
+  // take different ones
   const int num_props = std::min(props_->size(), kMaxProps);
   const int num_open = arena_->num_open();
   const int shift = settings_->owner_shift;

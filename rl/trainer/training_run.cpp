@@ -456,14 +456,14 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
   // out. Criteria that name a behavior count an episode only when that behavior learned from all
   // of it: with self-play, an episode played entirely in one of its turns (the other team's turns
   // may be played in another setting, their turn_parameters)
-  std::vector<std::string> learners;
+  std::vector<std::string> learners;  // the behaviors learning in this turn
+  if (!finished.empty())
+    for (int b = 0; b < num_trainers(); ++b)
+      if (self_play_->learns(b)) learners.push_back(trainers_[b]->behavior());
   for (const auto& f : finished) {
     if (episode_epoch_[f.env_index] != lesson_epoch_) continue;
-    learners.clear();
-    if (episode_turn_[f.env_index] == self_play_->team_changes())
-      for (int b = 0; b < num_trainers(); ++b)
-        if (self_play_->learns(b)) learners.push_back(trainers_[b]->behavior());
-    parameters_.add_episode_metrics(f.metrics, learners);
+    const bool one_turn = episode_turn_[f.env_index] == self_play_->team_changes();
+    parameters_.add_episode_metrics(f.metrics, one_turn ? learners : std::vector<std::string>{});
   }
   std::map<std::string, BehaviorProgress> progress;
   for (auto& t : trainers_) progress[t->behavior()] = {t->step(), t->config().max_steps};
