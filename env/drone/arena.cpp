@@ -95,8 +95,10 @@ Arena::Arena(BulletWorld& world, const ArenaParams& params) : world_(world), par
   // around the opening, then a chunk if the level leaves it closed
   const float r = params_.room_half;
   const float end = r + ht;  // segments reach over the corners so the L pieces are sealed
-  for (int side = 0; side < kNumOpenings; ++side) {
-    const bool doorway = side < 2;
+  for (int index = 0; index < kNumOpenings; ++index) {
+    // the wall opening `index` is in
+    const int side = params_.doorways_swapped && index < 2 ? 1 - index : index;
+    const bool doorway = index < 2;
     const float w = doorway ? params_.door_width : params_.window_width;
     const float y0 = doorway ? 0.0f : params_.window_sill;
     const float y1 = doorway ? params_.door_height : params_.window_sill + params_.window_height;
@@ -104,7 +106,7 @@ Arena::Arena(BulletWorld& world, const ArenaParams& params) : world_(world), par
     add_side_box(side, 0.5f * w, end, 0.0f, top);
     if (y0 > 0.0f) add_side_box(side, -0.5f * w, 0.5f * w, 0.0f, y0);
     if (y1 < top) add_side_box(side, -0.5f * w, 0.5f * w, y1, top);
-    const bool open = side < n_open;
+    const bool open = index < n_open;
     if (!open) add_side_box(side, -0.5f * w, 0.5f * w, y0, y1);
     const btVector3 n = side_normal(side);
     Opening opening;

@@ -11,6 +11,9 @@
 // a corner form one L-shaped piece), plus a lintel above a doorway or a sill and a lintel around a
 // window. An opening the level does not use is closed by a wall chunk that fills it exactly.
 // Levels: 1 opens opening 0; 2 opens 0 and 1; 3 opens 0, 1, 2; 4 opens all four.
+// With `doorways_swapped` the two doorways trade walls (opening 0 in the +z wall, opening 1 in the
+// -z wall): since the room is the same seen from either side, at levels 1 and 2 that is the arena
+// turned half round about the vertical, so level 1's one doorway can be met in either wall.
 // Every static box is tagged kWall.
 // With `room` = false the arena is only floor, ceiling and boundary walls: no room boxes, no
 // openings (openings() is empty, inside_room() is always false); the drone tasks use this.
@@ -37,6 +40,7 @@ struct ArenaParams {
   float window_height = 1.4f;   // window height (m)
   float window_sill = 2.2f;     // height of a window's bottom edge above the floor (m)
   bool room = true;             // build the room; false: an open arena (level is then ignored)
+  bool doorways_swapped = false;  // opening 0 in the +z wall and opening 1 in the -z wall
 };
 
 inline constexpr int kMinLevel = 1;
@@ -90,8 +94,8 @@ class Arena {
   int num_boxes() const { return num_boxes_; }
 
  private:
-  // a box on room side `side` (0: -z, 1: +z, 2: +x, 3: -x) spanning tangential [a, b] and
-  // heights [y0, y1]
+  // a box on room side `side` (0: -z, 1: +z, 2: +x, 3: -x, whatever the openings' order)
+  // spanning tangential [a, b] and heights [y0, y1]
   void add_side_box(int side, float a, float b, float y0, float y1);
 
   BulletWorld& world_;

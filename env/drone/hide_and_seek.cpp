@@ -112,6 +112,9 @@ struct HideAndSeek::Settings {
   // ways from doorway i to prop i are least in total (paired_level2_starts)
   int prop_pairing = 0;
   int owner_shift = 0;
+  // chance that an episode's doorways trade walls (ArenaParams::doorways_swapped): level 1's one
+  // doorway is then in the +z wall
+  float doorway_swap_chance = 0.0f;
   bool prop_cues = true;  // vector [18, 20) and the hiders' masks say what prop actions would do
   bool object_obs = true;  // the "objects" observation (else zeros)
   bool sensor_obs = true;  // the rays and both grids (else zeros)
@@ -192,6 +195,7 @@ HideAndSeek::HideAndSeek()
       {"prop_start_spread", 0.f},
       {"prop_pairing", 0.f},
       {"owner_shift", 0.f},
+      {"doorway_swap_chance", 0.f},
       {"prop_cues", 1.f},
       {"object_obs", 1.f},
       {"sensor_obs", 1.f},
@@ -342,6 +346,7 @@ void HideAndSeek::build_episode() {
   s.prop_start_spread = drone::float_parameter(*this, "prop_start_spread", 0.0f, 1.0f);
   s.prop_pairing = drone::int_parameter(*this, "prop_pairing", 0, 1);
   s.owner_shift = drone::int_parameter(*this, "owner_shift", 0, 3);
+  s.doorway_swap_chance = drone::float_parameter(*this, "doorway_swap_chance", 0.0f, 1.0f);
   s.prop_cues = drone::int_parameter(*this, "prop_cues", 0, 1) == 1;
   s.object_obs = drone::int_parameter(*this, "object_obs", 0, 1) == 1;
   s.sensor_obs = drone::int_parameter(*this, "sensor_obs", 0, 1) == 1;
@@ -372,6 +377,9 @@ void HideAndSeek::build_episode() {
   world_->reset();
   drone::ArenaParams arena_params;
   arena_params.level = level_;
+  // the engine is only drawn from when the chance is on, so runs without it keep their episodes
+  arena_params.doorways_swapped =
+      s.doorway_swap_chance > 0.0f && uniform01(engine_) < s.doorway_swap_chance;
   arena_ = std::make_unique<drone::Arena>(*world_, arena_params);
   drone::PropParams prop_params;
   prop_params.square_hold = s.square_grab;

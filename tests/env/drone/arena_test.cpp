@@ -112,6 +112,35 @@ TEST(ArenaTest, RaysPassOpenOpeningsAndHitClosedOnes) {
   }
 }
 
+// doorways_swapped: the doorways trade walls and nothing else changes; at level 1 the open doorway
+// is then the one in the +z wall, and a ray passes it while the -z wall stops one
+TEST(ArenaTest, SwappedDoorwaysTradeWalls) {
+  for (int level = 1; level <= 4; ++level) {
+    ArenaParams params = at_level(level);
+    params.doorways_swapped = true;
+    BulletWorld plain_world, swapped_world;
+    const Arena plain(plain_world, at_level(level)), swapped(swapped_world, params);
+    EXPECT_EQ(swapped.num_boxes(), plain.num_boxes()) << "level " << level;
+    for (int i = 0; i < kNumOpenings; ++i) {
+      const Opening& a = plain.openings()[i];
+      const Opening& b = swapped.openings()[i];
+      EXPECT_EQ(b.kind, a.kind);
+      EXPECT_EQ(b.open, a.open);
+      const float flip = i < 2 ? -1.0f : 1.0f;  // the doorways' z changes sign, the windows stay
+      EXPECT_EQ(b.centre, btVector3(a.centre.x(), a.centre.y(), flip * a.centre.z())) << i;
+      EXPECT_EQ(b.normal, btVector3(a.normal.x(), a.normal.y(), flip * a.normal.z())) << i;
+    }
+  }
+  ArenaParams params = at_level(1);
+  params.doorways_swapped = true;
+  BulletWorld world;
+  const Arena arena(world, params);
+  const float r = arena.params().room_half, y = 0.5f * arena.params().door_height;
+  EXPECT_GT(arena.openings()[0].centre.z(), 0.0f);
+  EXPECT_EQ(ray_fraction(world, btVector3(0, y, r + 4), btVector3(0, y, 0)), 1.0f);
+  EXPECT_LT(ray_fraction(world, btVector3(0, y, -r - 4), btVector3(0, y, 0)), 1.0f);
+}
+
 TEST(ArenaTest, DronesPassOpenOpeningsAndAreStoppedByClosedOnes) {
   for (int level : {1, 3}) {
     for (int i = 0; i < kNumOpenings; ++i) {

@@ -105,6 +105,8 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"cover_depth", 0.4f},
                                                   {"unlock_cost", -0.1f},
                                                   {"cover_shaping", 0.6f},  // + 0.5 > 1
+                                                  {"doorway_swap_chance", 1.5f},
+                                                  {"doorway_swap_chance", -0.1f},
                                                   {"fort_reward", NAN}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
@@ -201,6 +203,46 @@ TEST(HideAndSeekTest, PropStartOffsetMovesPropsTowardsTheirDoorways) {
   {
     Game g({{"level", 3.f}, {"prop_start_offset", 0.f}}, 3);
     EXPECT_FLOAT_EQ(g.env.episode_metrics().at("prop_start_offset"), 1.0f);
+  }
+}
+
+// doorway_swap_chance: with chance 1 level 1's doorway is the one in the +z wall, its prop starts
+// beside it and locking the prop there closes it; with 0.5 about half the episodes swap; 0 (the
+// default) draws nothing, so the episodes are those of a run without the parameter
+TEST(HideAndSeekTest, DoorwaySwapChancePutsLevelOnesDoorwayInEitherWall) {
+  Game in({{"level", 1.f}, {"doorway_swap_chance", 1.f}, {"prop_start_offset", 0.f}}, 3);
+  const drone::Opening& door = in.env.arena().openings()[0];
+  EXPECT_TRUE(door.open);
+  EXPECT_GT(door.centre.z(), 0.0f);
+  EXPECT_GT(drone::covered_fraction(door, *in.env.props()[0].body), 0.5f);
+  auto& hider = *in.env.agent(HideAndSeek::kHider, 0).drone;
+  btTransform pose = hider.body().getWorldTransform();
+  pose.setOrigin(in.env.props()[0].position() - door.normal * 1.0f + btVector3(0, 0.2f, 0));
+  pose.setRotation(btQuaternion(btVector3(0, 1, 0), std::atan2(door.normal.x(), door.normal.z())));
+  hider.body().setWorldTransform(pose);
+  ASSERT_EQ(in.env.props().lock(hider, HideAndSeek::kHider), 0);
+  EXPECT_EQ(in.env.count_closed(), 1);
+
+  Game half({{"level", 1.f}, {"doorway_swap_chance", 0.5f}}, 5);
+  int swapped = 0;
+  for (int episode = 0; episode < 100; ++episode) {
+    half.harness.reset();
+    const bool plus_z = half.env.arena().openings()[0].centre.z() > 0.0f;
+    swapped += plus_z;
+    // the prop starts beside the open doorway, on its side of the room
+    ASSERT_EQ(half.env.props()[0].position().z() > 0.0f, plus_z) << "episode " << episode;
+  }
+  EXPECT_GT(swapped, 30);  // binomial(100, 0.5): 50 +- 5
+  EXPECT_LT(swapped, 70);
+
+  Game plain({{"level", 1.f}}, 7), zero({{"level", 1.f}, {"doorway_swap_chance", 0.f}}, 7);
+  for (int episode = 0; episode < 5; ++episode) {
+    plain.harness.reset();
+    zero.harness.reset();
+    EXPECT_LT(zero.env.arena().openings()[0].centre.z(), 0.0f);
+    for (int h = 0; h < 2; ++h)
+      ASSERT_EQ(zero.env.agent(HideAndSeek::kHider, h).drone->position(),
+                plain.env.agent(HideAndSeek::kHider, h).drone->position());
   }
 }
 
@@ -1011,10 +1053,10 @@ TEST(HideAndSeekTest, SameSeedSameEpisode) {
 
 // in how many of 20 episodes (seeds 1-20) the scripted hiders close every opening of `level` in
 // the prep phase
-int scripted_forts(float level) {
+int scripted_forts(float level, float doorway_swap_chance = 0.0f) {
   int closed = 0;
   for (uint64_t seed = 1; seed <= 20; ++seed) {
-    Game g({{"level", level}}, seed);
+    Game g({{"level", level}, {"doorway_swap_chance", doorway_swap_chance}}, seed);
     g.set_all(0.0f);
     while (g.env.in_prep() && !g.over()) {
       g.script(HideAndSeek::kHider);
@@ -1030,6 +1072,8 @@ int scripted_forts(float level) {
 TEST(HideAndSeekTest, ScriptedHiderClosesTheDoorway) {
   const int closed = scripted_forts(1);
   EXPECT_GE(closed, 16) << closed << " of 20";
+  const int swapped = scripted_forts(1, 1.0f);  // the doorway in the +z wall
+  EXPECT_GE(swapped, 16) << swapped << " of 20";
 }
 
 // at level 2 each scripted hider keeps its own doorway until it is closed: when the first was
