@@ -25,7 +25,9 @@
 // round(prep_fraction * episode_frames) frames (40%: 1228) are the prep phase, in which seekers are
 // frozen (zero linear and angular factors: they neither fly nor get pushed) but observe.
 //
-// Start (seeded): the arena of `level` (1-4; arena.h), hiders inside the room or, each with chance
+// Start (seeded): the arena of `level` (1-4; arena.h), with chance `doorway_swap_chance` (default
+// 0) its two doorways trading walls (ArenaParams::doorways_swapped: doorway 0, and so level 1's
+// one doorway and its prop, in the +z wall), hiders inside the room or, each with chance
 // `hider_outside_chance`, within 2.5 m outside it (-1, the default: the level's own chance, 0 at
 // levels 1 and 2 and 0.5 at levels 3 and 4), seekers outside the room at least 2 m from its
 // walls, all at 1 m height with random yaw; props per level: 1: one, next to doorway 0, parallel to

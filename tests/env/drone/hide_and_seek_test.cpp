@@ -10,6 +10,7 @@
 #include <map>
 #include <numeric>
 
+#include "env/drone/drone_task.h"
 #include "env/register_builtin_envs.h"
 #include "rl/env_api/conformance.h"
 #include "tests/env/single_env_harness.h"
@@ -63,6 +64,13 @@ struct Game {
   HideAndSeek env;
   SingleEnvHarness harness{env};
 };
+
+// puts `hider` where a lock acts on `prop`: 1 m inside it from the opening with outward normal
+// `n`, facing out, at rest
+void stand_behind(drone::DroneBody& hider, const drone::Prop& prop, const btVector3& n) {
+  drone::DroneTask::place(hider, prop.position() - n * 1.0f + btVector3(0, 0.2f, 0),
+                          std::atan2(n.x(), n.z()));
+}
 
 TEST(HideAndSeekTest, ConformsAtEveryLevel) {
   register_builtin_envs();
@@ -177,11 +185,7 @@ TEST(HideAndSeekTest, PropStartOffsetMovesPropsTowardsTheirDoorways) {
     // a hider in front of each prop locks it where it stands: the doorways close
     auto& hider = *in.env.agent(HideAndSeek::kHider, 0).drone;
     for (int i = 0; i < int(level); ++i) {
-      const btVector3 n = in.env.arena().openings()[i].normal;
-      btTransform pose = hider.body().getWorldTransform();
-      pose.setOrigin(in.env.props()[i].position() - n * 1.0f + btVector3(0, 0.2f, 0));
-      pose.setRotation(btQuaternion(btVector3(0, 1, 0), std::atan2(n.x(), n.z())));
-      hider.body().setWorldTransform(pose);
+      stand_behind(hider, in.env.props()[i], in.env.arena().openings()[i].normal);
       ASSERT_EQ(in.env.props().lock(hider, HideAndSeek::kHider), i) << "level " << level;
     }
     EXPECT_EQ(in.env.count_closed(), int(level)) << "level " << level;
@@ -216,10 +220,7 @@ TEST(HideAndSeekTest, DoorwaySwapChancePutsLevelOnesDoorwayInEitherWall) {
   EXPECT_GT(door.centre.z(), 0.0f);
   EXPECT_GT(drone::covered_fraction(door, *in.env.props()[0].body), 0.5f);
   auto& hider = *in.env.agent(HideAndSeek::kHider, 0).drone;
-  btTransform pose = hider.body().getWorldTransform();
-  pose.setOrigin(in.env.props()[0].position() - door.normal * 1.0f + btVector3(0, 0.2f, 0));
-  pose.setRotation(btQuaternion(btVector3(0, 1, 0), std::atan2(door.normal.x(), door.normal.z())));
-  hider.body().setWorldTransform(pose);
+  stand_behind(hider, in.env.props()[0], door.normal);
   ASSERT_EQ(in.env.props().lock(hider, HideAndSeek::kHider), 0);
   EXPECT_EQ(in.env.count_closed(), 1);
 
@@ -947,12 +948,8 @@ TEST(HideAndSeekTest, OwnCloseCreditPaysEachHiderForItsOwnOpening) {
            3);
     g.idle_step();
     const int door = int(level) - 1;
-    const btVector3 n = g.env.arena().openings()[door].normal;
     auto& hider = *g.env.agent(HideAndSeek::kHider, 0).drone;
-    btTransform pose = hider.body().getWorldTransform();
-    pose.setOrigin(g.env.props()[door].position() - n * 1.0f + btVector3(0, 0.2f, 0));
-    pose.setRotation(btQuaternion(btVector3(0, 1, 0), std::atan2(n.x(), n.z())));
-    hider.body().setWorldTransform(pose);
+    stand_behind(hider, g.env.props()[door], g.env.arena().openings()[door].normal);
     EXPECT_EQ(g.env.props().lock(hider, HideAndSeek::kHider), door);
     g.idle_step();
     EXPECT_TRUE(g.env.opening_closed(door));
