@@ -22,6 +22,9 @@ constexpr float kSpawnHeight = 1.0f;  // drones start at this height (m)
 constexpr int kSpawnAttempts = 2000;
 constexpr float kClosedCover = 0.5f;  // an opening is closed when more than half is covered
 constexpr float kCoverReach = 2.0f;   // m: a prop centred farther from an opening cannot cover it
+// m: push_shaping's place behind a prop, from the prop's centre (a drone there can grab the panel
+// face-on; the scripted hider grabs from 1.1 m)
+constexpr float kPushStandoff = 1.1f;
 
 // a prop standing in a doorway: its centre this far inside the wall's centre plane (the panel,
 // 0.2 m thick, clears the wall's inner face and covers the doorway for covered_fraction)
@@ -83,6 +86,7 @@ struct HideAndSeek::Settings {
   float prop_shaping = 0.5f;   // mode 2: share held for a prop near an open opening
   float reach_shaping = 0.0f;  // mode 2: share held for a hider near that prop
   float cover_shaping = 0.0f;  // mode 2: share held for an unlocked prop covering the opening
+  float push_shaping = 0.0f;   // mode 2: share held for a hider behind that prop (it pushes it)
   float shaping_range = 5.0f;  // m: nearness is 1 - distance / shaping_range, 0 beyond
   // m inside the wall's centre plane: a panel lined up behind an opening holds up to half the
   // cover share, graded from the closing test's 0.5 m (in full) down to 0 this deep; 0.5 = none
@@ -175,6 +179,7 @@ HideAndSeek::HideAndSeek()
       {"prop_shaping", 0.5f},
       {"reach_shaping", 0.f},
       {"cover_shaping", 0.f},
+      {"push_shaping", 0.f},
       {"shaping_range", 5.f},
       {"cover_depth", 0.5f},
       {"lock_keeps_shaping", 0.f},
@@ -324,11 +329,13 @@ void HideAndSeek::build_episode() {
   s.prop_shaping = drone::float_parameter(*this, "prop_shaping", 0.0f, 1.0f);
   s.reach_shaping = drone::float_parameter(*this, "reach_shaping", 0.0f, 1.0f);
   s.cover_shaping = drone::float_parameter(*this, "cover_shaping", 0.0f, 1.0f);
-  if (s.prop_shaping + s.reach_shaping + s.cover_shaping > 1.0f)
+  s.push_shaping = drone::float_parameter(*this, "push_shaping", 0.0f, 1.0f);
+  const float shares = s.prop_shaping + s.reach_shaping + s.cover_shaping + s.push_shaping;
+  if (shares > 1.0f)
     throw std::invalid_argument(
-        "HideAndSeek: parameters prop_shaping + reach_shaping + cover_shaping must be at most 1 "
-        "(a closed opening holds 1), got " +
-        std::to_string(s.prop_shaping + s.reach_shaping + s.cover_shaping));
+        "HideAndSeek: parameters prop_shaping + reach_shaping + cover_shaping + push_shaping must "
+        "be at most 1 (a closed opening holds 1), got " +
+        std::to_string(shares));
   s.cover_depth = drone::float_parameter(*this, "cover_depth", 0.5f, 3.0f);
   s.shaping_range = drone::float_parameter(*this, "shaping_range", 0.1f, 50.0f);
   s.lock_keeps_shaping = drone::int_parameter(*this, "lock_keeps_shaping", 0, 1) == 1;
@@ -730,8 +737,9 @@ void HideAndSeek::run_frame(StepView& io) {
 HideAndSeek::Potential HideAndSeek::opening_potential(
     const std::array<bool, kNumOpenings>& closed) const {
   // one per closed opening; with mode 2, for an open opening, prop_shaping times how near the
-  // nearest prop is, reach_shaping times how near the nearest hider is to that prop and
-  // cover_shaping times how much of it an unlocked prop covers
+  // nearest prop is, reach_shaping times how near the nearest hider is to that prop,
+  // push_shaping times how near the nearest hider is to the place behind it (the prop between
+  // the hider and the opening) and cover_shaping times how much of it an unlocked prop covers
   const Settings& s = *settings_;
   const auto nearness = [&](float d) { return std::max(0.0f, 1.0f - d / s.shaping_range); };
   Potential potential;
@@ -776,14 +784,24 @@ HideAndSeek::Potential HideAndSeek::opening_potential(
       }
       hold(o, s.cover_shaping * std::max(std::min(1.0f, cover / kClosedCover), 0.5f * behind));
     }
-    if (s.reach_shaping == 0.0f) continue;
+    if (s.reach_shaping == 0.0f && s.push_shaping == 0.0f) continue;
     const btVector3 prop = (*props_)[nearest_prop].position();
+    // where a hider pushes that prop towards the opening from: kPushStandoff behind it on the
+    // line from the opening's centre through the prop (horizontal), at the prop's height
+    btVector3 away = prop - opening.centre;
+    away.setY(0.0f);
+    if (away.length2() < 1e-6f) away = -opening.normal;
+    const btVector3 push_point = prop + away.normalized() * kPushStandoff;
     float hider = std::numeric_limits<float>::infinity();
+    float pusher = std::numeric_limits<float>::infinity();
     for (int h = 0; h < kMaxHiders; ++h) {
       const Agent& a = agent(kHider, h);
-      if (a.present) hider = std::min(hider, (a.drone->position() - prop).length());
+      if (!a.present) continue;
+      hider = std::min(hider, (a.drone->position() - prop).length());
+      pusher = std::min(pusher, (a.drone->position() - push_point).length());
     }
     hold(o, s.reach_shaping * nearness(hider));
+    hold(o, s.push_shaping * nearness(pusher));
   }
   return potential;
 }

@@ -65,7 +65,9 @@
 //     locking again pays nothing more). With 2 (held and shaped) they also hold, for each open
 //     opening that is not closed, the close reward times prop_shaping (0.5) times how near the
 //     nearest prop is to its centre, plus reach_shaping (0) times how near the nearest hider is to
-//     that prop, plus cover_shaping (0) times the largest share of the opening an unlocked prop
+//     that prop, plus push_shaping (0) times how near the nearest hider is to the place 1.1 m
+//     behind that prop on the horizontal line from the opening's centre through it (where a hider
+//     has the prop between itself and the opening and pushes it there), plus cover_shaping (0) times the largest share of the opening an unlocked prop
 //     covers, over the share that closes it (capped at 1: a prop that would close it if locked;
 //     with `cover_depth` d above its default 0.5 m, the closing test's depth, at least half the
 //     graded share of a prop lined up behind it: rays reach d inside the wall's centre plane,
@@ -73,7 +75,7 @@
 //     the doorway pays on the way);
 //     nearness is 1 - distance / shaping_range (5 m), 0 beyond. Potential-based shaping (Ng,
 //     Harada and Russell 1999): it pays for each link of the chain reach, drag, cover, lock and
-//     takes it back when undone; prop_shaping + reach_shaping + cover_shaping is at most 1, what
+//     takes it back when undone; the four shares together are at most 1, what
 //     a closed opening holds. Only unlocked props hold shares, so a hider that locks a prop short
 //     of closing gives its share back and is paid it again for the unlock; with
 //     `lock_keeps_shaping` 1 a locked prop holds the same shares as an unlocked one, and a lock
@@ -233,9 +235,11 @@ class HideAndSeek : public Env {
   void tag(Agent& hider, StepView& io);
   void check_openings(StepView& io);
   // close_reward_mode 1: the number of closed openings; 2: plus, per open opening not closed,
-  // prop_shaping n(d) + reach_shaping n(e) + cover_shaping min(1, c / 0.5), with d the distance
-  // from its centre to the nearest prop's, e from that prop's to the nearest hider's, c the
-  // largest share an unlocked prop covers and n(x) = max(0, 1 - x / shaping_range)
+  // prop_shaping n(d) + reach_shaping n(e) + push_shaping n(b) + cover_shaping min(1, c / 0.5),
+  // with d the distance from its centre to the nearest prop's, e from that prop's to the nearest
+  // hider's, b from the place behind that prop (kPushStandoff further from the opening) to the
+  // nearest hider's, c the largest share an unlocked prop covers and n(x) = max(0, 1 - x /
+  // shaping_range)
   // (`closed`: opening_closed of each opening, computed once by the caller)
   struct Potential {
     float total = 0.0f;                                  // summed as it is built

@@ -113,6 +113,8 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"cover_depth", 0.4f},
                                                   {"unlock_cost", -0.1f},
                                                   {"cover_shaping", 0.6f},  // + 0.5 > 1
+                                                  {"push_shaping", -0.2f},
+                                                  {"push_shaping", 0.6f},  // + 0.5 > 1
                                                   {"doorway_swap_chance", 1.5f},
                                                   {"doorway_swap_chance", -0.1f},
                                                   {"fort_reward", NAN}}) {
@@ -1008,6 +1010,52 @@ TEST(HideAndSeekTest, ReachShapingPaysForAHiderComingNearTheProp) {
   step();
   move_hider(4.5f);
   EXPECT_NEAR(step(), 0.0f, 1e-6f);  // beyond the range nearness is 0
+}
+
+// push_shaping: a hider is paid for coming to the place behind the prop, where the prop is between
+// it and the doorway, and not for standing as near the prop on the doorway's side
+TEST(HideAndSeekTest, PushShapingPaysForAHiderBehindThePropNotBeforeIt) {
+  Game g({{"level", 1.f},
+          {"num_hiders", 1.f},
+          {"num_seekers", 1.f},
+          {"close_reward", 0.5f},
+          {"close_reward_mode", 2.f},
+          {"prop_shaping", 0.f},
+          {"push_shaping", 0.25f},
+          {"shaping_range", 4.f}});
+  const drone::Opening& door = g.env.arena().openings()[0];
+  move_first_prop(g, 3.0f, 0.0f);  // 3 m in front of the doorway, inside the room
+  const btVector3 prop = g.env.props()[0].position();
+  const btVector3 inward = -door.normal;  // from the doorway into the room
+  auto& hider = *g.env.agent(HideAndSeek::kHider, 0).drone;
+  // puts the hider `d` metres from the prop's centre, further into the room (d < 0: on the
+  // doorway's side), at the prop's height
+  auto move_hider = [&](float d) {
+    btTransform pose = hider.body().getWorldTransform();
+    pose.setOrigin(prop + inward * d);
+    hider.body().setWorldTransform(pose);
+    hider.body().setLinearVelocity(btVector3(0, 0, 0));
+  };
+  // the place push_shaping pays for: 1.1 m behind the prop, seen from the doorway
+  const auto from_push_place = [&] {
+    btVector3 away = g.env.props()[0].position() - door.centre;
+    away.setY(0.0f);
+    return (hider.position() - (g.env.props()[0].position() + away.normalized() * 1.1f)).length();
+  };
+  move_hider(3.1f);  // 2 m past the place
+  g.idle_step();     // the teleport is paid for on this step: start from here
+  const float far = from_push_place();
+  move_hider(1.1f);
+  const float paid = g.idle_step();
+  const float near = from_push_place();
+  // 0.5 (close reward) x 0.25 (push share) x (distance gained / 4 m)
+  EXPECT_NEAR(paid, 0.5f * 0.25f * (far - near) / 4.0f, 1e-4f);
+  EXPECT_GT(paid, 0.05f);
+  // as near the prop, on the doorway's side: 2.2 m from the place, paid back accordingly
+  move_hider(-1.1f);
+  const float before = g.idle_step();
+  EXPECT_NEAR(before, -0.5f * 0.25f * (from_push_place() - near) / 4.0f, 1e-4f);
+  EXPECT_LT(before, -0.05f);
 }
 
 TEST(HideAndSeekTest, BakerPresetIsZeroSumPerDecision) {
