@@ -22,9 +22,6 @@ constexpr float kSpawnHeight = 1.0f;  // drones start at this height (m)
 constexpr int kSpawnAttempts = 2000;
 constexpr float kClosedCover = 0.5f;  // an opening is closed when more than half is covered
 constexpr float kCoverReach = 2.0f;   // m: a prop centred farther from an opening cannot cover it
-// m: push_shaping's place behind a prop, from the prop's centre (a drone there can grab the panel
-// face-on; the scripted hider grabs from 1.1 m)
-constexpr float kPushStandoff = 1.1f;
 
 // a prop standing in a doorway: its centre this far inside the wall's centre plane (the panel,
 // 0.2 m thick, clears the wall's inner face and covers the doorway for covered_fraction)
@@ -786,12 +783,12 @@ HideAndSeek::Potential HideAndSeek::opening_potential(
     }
     if (s.reach_shaping == 0.0f && s.push_shaping == 0.0f) continue;
     const btVector3 prop = (*props_)[nearest_prop].position();
-    // where a hider pushes that prop towards the opening from: kPushStandoff behind it on the
+    // where a hider pushes that prop towards the opening from: kGrabStandoff behind it on the
     // line from the opening's centre through the prop (horizontal), at the prop's height
     btVector3 away = prop - opening.centre;
     away.setY(0.0f);
     if (away.length2() < 1e-6f) away = -opening.normal;
-    const btVector3 push_point = prop + away.normalized() * kPushStandoff;
+    const btVector3 push_point = prop + away.normalized() * kGrabStandoff;
     float hider = std::numeric_limits<float>::infinity();
     float pusher = std::numeric_limits<float>::infinity();
     for (int h = 0; h < kMaxHiders; ++h) {

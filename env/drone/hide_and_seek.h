@@ -65,9 +65,10 @@
 //     locking again pays nothing more). With 2 (held and shaped) they also hold, for each open
 //     opening that is not closed, the close reward times prop_shaping (0.5) times how near the
 //     nearest prop is to its centre, plus reach_shaping (0) times how near the nearest hider is to
-//     that prop, plus push_shaping (0) times how near the nearest hider is to the place 1.1 m
-//     behind that prop on the horizontal line from the opening's centre through it (where a hider
-//     has the prop between itself and the opening and pushes it there), plus cover_shaping (0) times the largest share of the opening an unlocked prop
+//     that prop, plus push_shaping (0) times how near the nearest hider is to the place
+//     kGrabStandoff (1.1 m) behind that prop on the horizontal line from the opening's centre
+//     through it (where a hider has the prop between itself and the opening and pushes it
+//     there), plus cover_shaping (0) times the largest share of the opening an unlocked prop
 //     covers, over the share that closes it (capped at 1: a prop that would close it if locked;
 //     with `cover_depth` d above its default 0.5 m, the closing test's depth, at least half the
 //     graded share of a prop lined up behind it: rays reach d inside the wall's centre plane,
@@ -75,8 +76,8 @@
 //     the doorway pays on the way);
 //     nearness is 1 - distance / shaping_range (5 m), 0 beyond. Potential-based shaping (Ng,
 //     Harada and Russell 1999): it pays for each link of the chain reach, drag, cover, lock and
-//     takes it back when undone; the four shares together are at most 1, what
-//     a closed opening holds. Only unlocked props hold shares, so a hider that locks a prop short
+//     takes it back when undone; the four shares together are at most 1, what a closed opening
+//     holds. Only unlocked props hold shares, so a hider that locks a prop short
 //     of closing gives its share back and is paid it again for the unlock; with
 //     `lock_keeps_shaping` 1 a locked prop holds the same shares as an unlocked one, and a lock
 //     or an unlock changes the reward only when it closes or opens the opening. Trained hiders
@@ -180,6 +181,9 @@ class HideAndSeek : public Env {
   static constexpr int kMaxEpisodeFrames = 6144;  // largest `episode_frames`
   static constexpr int kGrabBranch = 0;           // options: 0 release, 1 hold
   static constexpr int kLockBranch = 1;           // options: 0 none, 1 lock, 2 unlock
+  // m, drone centre to prop centre where a hider grabs a panel face-on: the scripted hider's
+  // approach, and push_shaping's place behind a prop
+  static constexpr float kGrabStandoff = 1.1f;
 
   // one agent's drone and its state in the episode
   struct Agent {
@@ -237,7 +241,7 @@ class HideAndSeek : public Env {
   // close_reward_mode 1: the number of closed openings; 2: plus, per open opening not closed,
   // prop_shaping n(d) + reach_shaping n(e) + push_shaping n(b) + cover_shaping min(1, c / 0.5),
   // with d the distance from its centre to the nearest prop's, e from that prop's to the nearest
-  // hider's, b from the place behind that prop (kPushStandoff further from the opening) to the
+  // hider's, b from the place behind that prop (kGrabStandoff further from the opening) to the
   // nearest hider's, c the largest share an unlocked prop covers and n(x) = max(0, 1 - x /
   // shaping_range)
   // (`closed`: opening_closed of each opening, computed once by the caller)

@@ -14,7 +14,6 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 constexpr float kDoorFlightHeight = 0.9f;  // m, well inside a 1.9 m doorway
-constexpr float kApproach = 1.1f;          // drone centre to prop centre when grabbing (m)
 
 using Team = HideAndSeek::Team;
 
@@ -225,7 +224,7 @@ void hider_actions(HideAndSeek& env, BehaviorView& view, int slot, std::vector<i
     // approach the broad face on the room's side (or on my side outside the room)
     const btVector3 towards = env.arena().inside_room(centre) ? -horizontal(centre) : p - centre;
     const float side = normal.dot(towards) >= 0 ? 1.0f : -1.0f;
-    btVector3 approach = centre + normal * (side * kApproach);
+    btVector3 approach = centre + normal * (side * HideAndSeek::kGrabStandoff);
     approach.setY(centre.y());
     const auto a = steer(me, approach, centre);
     std::copy(a.begin(), a.end(), c);

@@ -1036,23 +1036,25 @@ TEST(HideAndSeekTest, PushShapingPaysForAHiderBehindThePropNotBeforeIt) {
     hider.body().setWorldTransform(pose);
     hider.body().setLinearVelocity(btVector3(0, 0, 0));
   };
-  // the place push_shaping pays for: 1.1 m behind the prop, seen from the doorway
+  // the place push_shaping pays for: kGrabStandoff (1.1 m) behind the prop, seen from the doorway
+  const float standoff = HideAndSeek::kGrabStandoff;
   const auto from_push_place = [&] {
     btVector3 away = g.env.props()[0].position() - door.centre;
     away.setY(0.0f);
-    return (hider.position() - (g.env.props()[0].position() + away.normalized() * 1.1f)).length();
+    return (hider.position() - (g.env.props()[0].position() + away.normalized() * standoff))
+        .length();
   };
-  move_hider(3.1f);  // 2 m past the place
-  g.idle_step();     // the teleport is paid for on this step: start from here
+  move_hider(standoff + 2.0f);  // 2 m past the place
+  g.idle_step();                // the teleport is paid for on this step: start from here
   const float far = from_push_place();
-  move_hider(1.1f);
+  move_hider(standoff);
   const float paid = g.idle_step();
   const float near = from_push_place();
   // 0.5 (close reward) x 0.25 (push share) x (distance gained / 4 m)
   EXPECT_NEAR(paid, 0.5f * 0.25f * (far - near) / 4.0f, 1e-4f);
   EXPECT_GT(paid, 0.05f);
   // as near the prop, on the doorway's side: 2.2 m from the place, paid back accordingly
-  move_hider(-1.1f);
+  move_hider(-standoff);
   const float before = g.idle_step();
   EXPECT_NEAR(before, -0.5f * 0.25f * (from_push_place() - near) / 4.0f, 1e-4f);
   EXPECT_LT(before, -0.05f);
