@@ -25,6 +25,8 @@ terminal), and at the end a table of steps, rewards, ELO, lessons and strategies
 env_settings.stagger_steps S (default 0) spreads the env instances over their episodes: after
 every start and checkpoint instance i first plays i x S / num_envs still steps, not learned from.
 A behavior's self_play.turn_parameters hold for the episodes begun while its team learns.
+A lesson's behavior_max_steps ({Seeker: 2000000}) raises those behaviors' max_steps from that
+lesson on, so a behavior that had finished takes turns again.
 
 Options:
   --run-id ID            run folder name (default: checkpoint_settings.run_id)
@@ -34,7 +36,8 @@ Options:
   --initialize-from ID   start from the weights of run ID's newest checkpoint
   --num-envs N           environment instances (default: env_settings.num_envs)
   --seed S               base seed; instance i uses S + i (default: env_settings.seed, else 0)
-  --max-steps N          steps per behavior, overriding max_steps
+  --max-steps N          steps per behavior, overriding max_steps and lessons'
+                         behavior_max_steps
   --param NAME=VALUE     set an env parameter over env_settings.params (repeat; not one that
                          environment_parameters sets, itself or in a lesson's
                          other_parameters, nor one in a behavior's

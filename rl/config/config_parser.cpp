@@ -335,6 +335,11 @@ class Parser {
   SamplerSettings parse_sampler(const Val& value) const;
   std::vector<Lesson> parse_curriculum(const Val& value, const RunConfig& config) const;
   CompletionCriteria parse_completion_criteria(const Val& value, const RunConfig& config) const;
+  // Fails at `at` when `behavior` is not one the run trains. Without default_settings only the
+  // listed behaviors are trained; with it, the environment may have behaviors the file does not
+  // list.
+  void check_behavior_configured(const Val& at, const std::string& behavior,
+                                 const RunConfig& config) const;
   void parse_torch_settings(const Val& value) const;
   void parse_engine_settings(const Val& value) const;
 
@@ -944,6 +949,15 @@ std::vector<Lesson> Parser::parse_curriculum(const Val& value, const RunConfig& 
                              lesson.other_parameters[key] = parse_sampler(x);
                            });
                          }},
+                        {"behavior_max_steps",
+                         [&](const Val& v) {
+                           if (!v.node.IsMap())
+                             fail_expected(v, "a mapping of behavior names to step totals");
+                           for_each_entry(v, [&](const std::string& key, const Val& x) {
+                             check_behavior_configured(x, key, config);
+                             lesson.behavior_max_steps[key] = read_int(x, kPositiveInt64);
+                           });
+                         }},
                         {"completion_criteria",
                          [&](const Val& v) {
                            if (!v.node.IsNull()) {
@@ -981,6 +995,15 @@ std::vector<Lesson> Parser::parse_curriculum(const Val& value, const RunConfig& 
   return lessons;
 }
 
+void Parser::check_behavior_configured(const Val& at, const std::string& behavior,
+                                       const RunConfig& config) const {
+  if (config.default_settings || config.behaviors.count(behavior)) return;
+  std::vector<std::string> names;
+  for (const auto& [name, settings] : config.behaviors) names.push_back(name);
+  fail(at, "behavior '" + behavior + "' is not configured (configured: " + join_names(names) +
+               ")" + did_you_mean(behavior, names));
+}
+
 CompletionCriteria Parser::parse_completion_criteria(const Val& value,
                                                      const RunConfig& config) const {
   if (!value.node.IsMap()) fail_expected(value, "a mapping");
@@ -995,14 +1018,7 @@ CompletionCriteria Parser::parse_completion_criteria(const Val& value,
            [&](const Val& v) {
              criteria.behavior = read_string(v, false);
              if (criteria.behavior.empty()) fail(v, "must not be empty");
-             // Without default_settings only the listed behaviors are trained; with it, the
-             // environment may have behaviors the file does not list.
-             if (!config.default_settings && !config.behaviors.count(criteria.behavior)) {
-               std::vector<std::string> names;
-               for (const auto& [name, settings] : config.behaviors) names.push_back(name);
-               fail(v, "behavior '" + criteria.behavior + "' is not configured (configured: " +
-                           join_names(names) + ")" + did_you_mean(criteria.behavior, names));
-             }
+             check_behavior_configured(v, criteria.behavior, config);
              has_behavior = true;
            }},
           {"measure",
@@ -1321,6 +1337,15 @@ void emit_environment_parameters(
           emit_string(out, key);
           out << YAML::Value;
           emit_sampler(out, sampler);
+        }
+        out << YAML::EndMap;
+      }
+      if (!lesson.behavior_max_steps.empty()) {
+        out << YAML::Key << "behavior_max_steps" << YAML::Value << YAML::BeginMap;
+        for (const auto& [behavior, steps] : lesson.behavior_max_steps) {
+          out << YAML::Key;
+          emit_string(out, behavior);
+          out << YAML::Value << steps;
         }
         out << YAML::EndMap;
       }

@@ -205,11 +205,17 @@ struct Lesson {
   // Every lesson of a curriculum names the same ones, and no other entry of
   // environment_parameters may set them.
   std::map<std::string, SamplerSettings> other_parameters;
+  // Our extension: behaviors that train on once the curriculum reaches this lesson, to the
+  // given total of their steps (a budget above their own max_steps; e.g. the seekers of
+  // hide-and-seek learning again against the level the hiders reached). From this lesson on a
+  // behavior's max_steps is the largest of its own and the budgets of the lessons reached.
+  std::map<std::string, int64_t> behavior_max_steps;
   // Required on every lesson but the last; on the last lesson it is accepted and never used.
   std::optional<CompletionCriteria> completion_criteria;
 
   bool operator==(const Lesson& o) const {
     return name == o.name && value == o.value && other_parameters == o.other_parameters &&
+           behavior_max_steps == o.behavior_max_steps &&
            completion_criteria == o.completion_criteria;
   }
   bool operator!=(const Lesson& o) const { return !(*this == o); }

@@ -141,6 +141,18 @@ Parameters EnvironmentParameterManager::sample(std::mt19937_64& rng) const {
   return values;
 }
 
+int64_t EnvironmentParameterManager::max_steps(const std::string& behavior, int64_t own) const {
+  int64_t budget = own;
+  for (const auto& [name, state] : state_) {
+    const std::vector<Lesson>& lessons = settings_.at(name).curriculum;
+    for (int i = 0; i <= state.lesson; ++i) {
+      const auto found = lessons[i].behavior_max_steps.find(behavior);
+      if (found != lessons[i].behavior_max_steps.end()) budget = std::max(budget, found->second);
+    }
+  }
+  return budget;
+}
+
 Parameters EnvironmentParameterManager::sample(uint64_t seed) const {
   std::mt19937_64 rng(seed);
   return sample(rng);

@@ -26,6 +26,9 @@
 //   lesson when the result > threshold. A parameter moves at most one lesson per update(). When
 //   any parameter moved, every buffer is cleared. Smoothed values persist across lessons
 //   (they start at 0), as in ML-Agents.
+// - Our extension, a lesson's `behavior_max_steps`: max_steps() gives a behavior's step budget
+//   as the largest of its own and the budgets of every lesson reached so far (lessons only
+//   advance, so a budget holds from its lesson on).
 // - serialize() / deserialize() carry the lessons, the smoothed values and the buffers over
 //   --resume exactly.
 //
@@ -76,6 +79,10 @@ class EnvironmentParameterManager {
   // The current lesson of each curriculum parameter (0 = first), and its name.
   std::map<std::string, int> lessons() const;
   std::map<std::string, std::string> lesson_names() const;
+
+  // The step budget of `behavior`: `own` (its max_steps), raised by the behavior_max_steps of
+  // the lessons each curriculum has reached.
+  int64_t max_steps(const std::string& behavior, int64_t own) const;
 
   // Records the total environment reward of one finished episode of `behavior` (ML-Agents'
   // trainer.reward_buffer). Ignored when no completion_criteria names the behavior, and when the

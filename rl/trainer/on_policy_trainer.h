@@ -55,6 +55,9 @@ class OnPolicyTrainer {
   int64_t step() const { return step_; }
   int64_t updates() const { return updates_; }
   bool finished() const { return step_ >= config_.max_steps; }
+  // A new step budget (a curriculum lesson's behavior_max_steps): a finished trainer whose budget
+  // grows trains again. Linear schedules then decay towards the new budget.
+  void set_max_steps(int64_t max_steps) { config_.max_steps = max_steps; }
   int obs_size() const { return obs_size_; }
 
   // Chooses actions for every row that needs one (and, when `learner_rows` is given, whose entry

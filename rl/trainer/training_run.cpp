@@ -146,6 +146,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
         make_trainer(bs, bc, env_->buffers(b).rows, rank_seed_ * 1000003 + 17 * b + 1, spec.name));
     trainers_.back()->set_communicator(options_.communicator);
   }
+  apply_step_budgets();
   reset_self_play();
   summary_returns_.resize(trainers_.size());
   summary_group_returns_.resize(trainers_.size());
@@ -442,6 +443,12 @@ void TrainingRun::sample_all_parameters() {
   std::fill(episode_turn_.begin(), episode_turn_.end(), self_play_->team_changes());
 }
 
+void TrainingRun::apply_step_budgets() {
+  if (options_.max_steps > 0) return;
+  for (auto& t : trainers_)
+    t->set_max_steps(parameters_.max_steps(t->behavior(), config_.behaviors.at(t->behavior()).max_steps));
+}
+
 void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished,
                                     const std::vector<EpisodeStats>& episodes) {
   if (parameters_.empty()) {
@@ -470,7 +477,10 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
   // data-parallel: rank 0 decides; the others moved to its lessons in sync_ranks
   const LessonUpdate u = rank() == 0 ? parameters_.update(progress) : pending_follow_;
   pending_follow_ = LessonUpdate{};
-  if (u.changed) ++lesson_epoch_;
+  if (u.changed) {
+    ++lesson_epoch_;
+    apply_step_budgets();
+  }
   if (u.changed && u.require_reset) {
     // a lesson that asks for it restarts every episode now, from a deterministic point
     for (int b = 0; b < num_trainers(); ++b) trainers_[b]->interrupt_all(env_->buffers(b));
@@ -586,6 +596,7 @@ void TrainingRun::load_checkpoint(const std::string& path, bool weights_only) {
     strategies_.set_emergences(emerged);
     status_.strategies = emerged;
     parameters_.deserialize(read_string(archive, "run.parameters"));
+    apply_step_budgets();
     lesson_resets_ = read_vector<int64_t>(archive, "run.lesson_resets").at(0);
     std::istringstream rng(read_string(archive, "run.parameter_rng"));
     rng >> parameter_rng_;

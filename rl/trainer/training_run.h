@@ -90,6 +90,9 @@ class TrainingRun {
   void reset_self_play();
   // draws every instance's parameters for its next reset
   void sample_all_parameters();
+  // Each trainer's max_steps: its own, raised by the behavior_max_steps of the lessons reached
+  // (not with --max-steps, which caps every behavior).
+  void apply_step_budgets();
   // the curriculum's values for one env's next episode, with the learning team's turn_parameters
   // over them
   Parameters next_parameters();

@@ -739,6 +739,31 @@ TEST(ConfigParserTest, LessonsMaySetOtherParameters) {
                "expected a mapping of env parameter names to values");
 }
 
+// behavior_max_steps: a lesson may raise the step budget of behaviors the run trains
+TEST(ConfigParserTest, LessonsMayRaiseABehaviorsStepBudget) {
+  const std::string two = "  h:\n    curriculum:\n      - name: A\n        value: 1\n"
+                          "        completion_criteria: {behavior: CartPole, threshold: 1}\n"
+                          "      - name: B\n        value: 2\n";
+  const RunConfig config = parse(with_parameters(two + "        behavior_max_steps: {CartPole: 90000}\n"));
+  const auto& lessons = config.environment_parameters.at("h").curriculum;
+  EXPECT_TRUE(lessons[0].behavior_max_steps.empty());
+  EXPECT_EQ(lessons[1].behavior_max_steps, (std::map<std::string, int64_t>{{"CartPole", 90000}}));
+  const std::string yaml = run_config_to_yaml(config);
+  const RunConfig again = parse(yaml);
+  EXPECT_EQ(again.environment_parameters, config.environment_parameters);
+  EXPECT_EQ(run_config_to_yaml(again), yaml);
+  expect_error(with_parameters(two + "        behavior_max_steps: {CartPol: 90000}\n"),
+               "environment_parameters.h.curriculum[1].behavior_max_steps.CartPol", 13,
+               "behavior 'CartPol' is not configured (configured: CartPole) (did you mean "
+               "'CartPole'?)");
+  expect_error(with_parameters(two + "        behavior_max_steps: {CartPole: 0}\n"),
+               "environment_parameters.h.curriculum[1].behavior_max_steps.CartPole", 13,
+               "expected a positive integer");
+  expect_error(with_parameters(two + "        behavior_max_steps: 90000\n"),
+               "environment_parameters.h.curriculum[1].behavior_max_steps", 13,
+               "expected a mapping of behavior names to step totals");
+}
+
 // every shipped configuration reads (ctest runs in the source tree)
 TEST(ConfigParserTest, EveryShippedConfigReads) {
   int read = 0;

@@ -468,6 +468,30 @@ TEST(EnvironmentParameterManagerTest, LessonsSetTheirOtherParameters) {
   EXPECT_EQ(manager.sample(1), (Parameters{{"level", 2.f}, {"offset", 0.25f}}));
 }
 
+// behavior_max_steps holds from its lesson on and never lowers a behavior's own budget
+TEST(EnvironmentParameterManagerTest, LessonsRaiseStepBudgetsFromTheirLessonOn) {
+  Lesson one = lesson("One", 1.f, reward_criteria("Jumper", 0.5, 1));
+  Lesson two = lesson("Two", 2.f, reward_criteria("Jumper", 0.5, 1));
+  two.behavior_max_steps = {{"Flyer", 5000}, {"Jumper", 50}};
+  Lesson three = lesson("Three", 3.f);
+  EnvironmentParameterManager manager({{"level", curriculum({one, two, three})}});
+  EXPECT_EQ(manager.max_steps("Flyer", 1000), 1000);
+  manager.add_episode_reward("Jumper", 1.0);
+  ASSERT_TRUE(manager.update(kJumperProgress).changed);
+  EXPECT_EQ(manager.max_steps("Flyer", 1000), 5000);
+  EXPECT_EQ(manager.max_steps("Flyer", 8000), 8000);
+  EXPECT_EQ(manager.max_steps("Jumper", 1000), 1000);
+  EXPECT_EQ(manager.max_steps("Walker", 1000), 1000);
+  manager.add_episode_reward("Jumper", 1.0);
+  ASSERT_TRUE(manager.update(kJumperProgress).changed);
+  EXPECT_EQ(manager.lesson_names().at("level"), "Three");
+  EXPECT_EQ(manager.max_steps("Flyer", 1000), 5000);
+  // a resumed manager gives the same budgets
+  EnvironmentParameterManager resumed({{"level", curriculum({one, two, three})}});
+  resumed.deserialize(manager.serialize());
+  EXPECT_EQ(resumed.max_steps("Flyer", 1000), 5000);
+}
+
 TEST(EnvironmentParameterManagerTest, MetricMeasureWaitsAtOrBelowItsThreshold) {
   EnvironmentParameterManager manager = metric_lessons(4, 0.5);
   for (float fort : {1.f, 0.f, 1.f, 0.f, 0.f}) manager.add_episode_metrics({{"fort_rate", fort}});

@@ -663,6 +663,54 @@ TEST_F(TrainingRunTest, MetricLessonsOfABehaviorCountOnlyItsTurns) {
   EXPECT_LE(all.size() - red.size() - size_t(std::count(all.begin(), all.end(), 7.0)), 3u * 8u);
 }
 
+// A lesson's behavior_max_steps: Blue stops at its own 300 steps while Red goes on to 1200; the
+// lesson Red's progress reaches at 0.5 gives Blue a budget of 900, and Blue takes turns again from
+// then on. Without the budget Blue stays at its 300; with --max-steps the command line caps both.
+TEST_F(TrainingRunTest, ALessonsStepBudgetLetsAFinishedBehaviorLearnAgain) {
+  auto lessons = [](const std::string& budget) {
+    return "environment_parameters:\n  level:\n    curriculum:\n"
+           "      - name: first\n        value: 0\n"
+           "        completion_criteria: {behavior: Red, measure: progress, threshold: 0.5}\n"
+           "      - name: second\n        value: 1\n" +
+           budget;
+  };
+  auto config = [&](const std::string& budget) {
+    RunConfig c = turn_config("x: 7", lessons(budget));
+    c.behaviors.at("Blue").max_steps = 300;
+    return c;
+  };
+  auto opt = options("budget");
+  TrainingRun* running = nullptr;
+  int64_t red_when_blue_went_on = -1;  // Red's steps when Blue was first at 400 steps
+  opt.on_episode = [&](int b, int64_t steps, float) {
+    if (running->trainer(b).behavior() == "Blue" && steps >= 400 && red_when_blue_went_on < 0)
+      red_when_blue_went_on = running->trainer(1 - b).step();
+  };
+  TrainingRun run(config("        behavior_max_steps: {Blue: 900}\n"), opt);
+  running = &run;
+  const int blue = run.trainer(0).behavior() == "Blue" ? 0 : 1;
+  EXPECT_EQ(run.trainer(blue).config().max_steps, 300);
+  run.train();
+  EXPECT_EQ(run.parameters().lesson_names().at("level"), "second");
+  EXPECT_EQ(run.trainer(blue).config().max_steps, 900);
+  EXPECT_GE(run.trainer(blue).step(), 900);
+  EXPECT_LT(run.trainer(blue).step(), 900 + 300);
+  EXPECT_GE(run.trainer(1 - blue).step(), 1200);
+  EXPECT_GE(red_when_blue_went_on, 600) << "Blue learned past 300 before the lesson";
+
+  TrainingRun without(config(""), options("no_budget"));
+  without.train();
+  EXPECT_EQ(without.parameters().lesson_names().at("level"), "second");
+  EXPECT_LT(without.trainer(blue).step(), 300 + 300);
+
+  auto capped = options("capped");
+  capped.max_steps = 600;
+  TrainingRun cap(config("        behavior_max_steps: {Blue: 900}\n"), capped);
+  cap.train();
+  EXPECT_EQ(cap.trainer(blue).config().max_steps, 600);
+  EXPECT_LT(cap.trainer(blue).step(), 600 + 300);
+}
+
 TEST_F(TrainingRunTest, BadTurnParametersAreErrorsBeforeWriting) {
   auto expect_error = [&](const RunConfig& config, const TrainOptions& opt, const std::string& says) {
     try {
