@@ -75,6 +75,17 @@ void RunFolder::write_status(const TrainingStatus& s) const {
     for (const auto& [b, n] : c.steps) os << (j++ ? ", " : "") << json_string(b) << ": " << n;
     os << "}}";
   }
+  os << "\n  ],\n  \"sessions\": [";
+  for (size_t i = 0; i < s.sessions.size(); ++i) {
+    const RunSession& r = s.sessions[i];
+    os << (i ? "," : "") << "\n    {\"started\": " << json_string(r.started) << ", \"steps\": {";
+    size_t j = 0;
+    for (const auto& [b, n] : r.steps) os << (j++ ? ", " : "") << json_string(b) << ": " << n;
+    os << "}, \"cpu\": " << json_string(r.machine.cpu) << ", \"cores\": " << r.machine.cores
+       << ", \"blas_kernels\": " << json_string(r.machine.blas_kernels)
+       << ", \"torch\": " << json_string(r.machine.torch_version)
+       << ", \"rlt\": " << json_string(r.machine.rlt_commit) << "}";
+  }
   os << "\n  ]\n}\n";
   write_file_atomically(status_path(), os.str());
 }
@@ -108,6 +119,17 @@ TrainingStatus RunFolder::read_status() const {
       e.elapsed_seconds = c["elapsed_seconds"].as<double>();
       for (const auto& kv : c["steps"]) e.steps[kv.first.as<std::string>()] = kv.second.as<int64_t>();
       s.checkpoints.push_back(e);
+    }
+    for (const auto& r : root["sessions"]) {
+      RunSession e;
+      e.started = r["started"].as<std::string>();
+      for (const auto& kv : r["steps"]) e.steps[kv.first.as<std::string>()] = kv.second.as<int64_t>();
+      e.machine.cpu = r["cpu"].as<std::string>();
+      e.machine.cores = r["cores"].as<int>();
+      e.machine.blas_kernels = r["blas_kernels"].as<std::string>();
+      e.machine.torch_version = r["torch"].as<std::string>();
+      e.machine.rlt_commit = r["rlt"].as<std::string>();
+      s.sessions.push_back(e);
     }
   } catch (const YAML::Exception& e) {
     throw std::runtime_error(status_path() + ": corrupt training status: " + e.what());

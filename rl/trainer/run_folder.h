@@ -2,7 +2,8 @@
 //   configuration.yaml     the resolved configuration
 //   training_status.json   checkpoints (newest last) with steps per behavior, curriculum lessons,
 //                          self-play ELO, the step each of the env's strategies emerged at,
-//                          whether training finished
+//                          whether training finished, and each session's machine (a start or a
+//                          resume: when, from which steps, on which CPU, BLAS kernels and build)
 //   checkpoints/           checkpoint-<index>.pt, written atomically (temporary file, then rename)
 //   metrics/<Behavior>.csv one row per update: losses, schedules, episodes since the last row,
 //                          self-play ELO
@@ -16,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "rl/core/machine_info.h"
 #include "rl/trainer/strategy_tracker.h"
 
 namespace rlt {
@@ -27,12 +29,21 @@ struct CheckpointEntry {
   double elapsed_seconds = 0;
 };
 
+// One start or resume of a run: a seed's trajectory holds on one machine and build only, so
+// figures are traced to the machine that produced them.
+struct RunSession {
+  std::string started;                   // UTC, ISO 8601 (2026-11-27T02:10:00Z)
+  std::map<std::string, int64_t> steps;  // per behavior, when the session began
+  MachineInfo machine;
+};
+
 struct TrainingStatus {
   std::string run_id;
   std::map<std::string, int> lessons;    // curriculum lesson per parameter, at the newest checkpoint
   std::map<std::string, double> elo;     // self-play rating per behavior, at the newest checkpoint
   std::vector<CheckpointEntry> checkpoints;  // oldest first
   std::vector<Emergence> strategies;         // the env's strategies, emerged or not
+  std::vector<RunSession> sessions;          // oldest first (none in status files from before them)
   bool finished = false;
 };
 

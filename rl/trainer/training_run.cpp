@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -18,6 +19,7 @@
 #include "rl/core/archive_io.h"
 #include "rl/core/compute_threads.h"
 #include "rl/core/json.h"
+#include "rl/core/machine_info.h"
 #include "rl/core/policy_export.h"
 #include "rl/core/sample_stats.h"
 #include "rl/curriculum/environment_parameter_manager.h"
@@ -210,9 +212,31 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     for (auto& t : trainers_) write_file_atomically(folder_->metrics_path(t->behavior()), kMetricsHeader);
     status_.strategies = strategies_.emergences();
   }
+  begin_session(cs.resume);
   write_file_atomically(folder_->config_path(), run_config_to_yaml(config_));
   folder_->write_status(status_);
   for (auto& t : trainers_) t->broadcast_parameters(0);
+}
+
+void TrainingRun::begin_session(bool resumed) {
+  RunSession session;
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char started[32];
+  std::strftime(started, sizeof started, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  session.started = started;
+  for (const auto& t : trainers_) session.steps[t->behavior()] = t->step();
+  session.machine = current_machine();
+  if (resumed && !status_.sessions.empty()) {
+    const std::string changed = machine_difference(status_.sessions.back().machine, session.machine);
+    if (!changed.empty())
+      *log_ << "Note: resuming on another machine or build than the run's last session (" << changed
+            << "): from here on the run will not match one that never stopped, since a seed gives "
+               "the same trajectory only on one machine and build."
+            << std::endl;
+  }
+  status_.sessions.push_back(session);
 }
 
 TrainingRun::~TrainingRun() = default;

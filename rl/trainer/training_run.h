@@ -99,6 +99,9 @@ class TrainingRun {
   // curriculum: records finished episodes, advances lessons, resets envs when a lesson asks to
   void update_curriculum(const std::vector<FinishedEpisode>& finished,
                          const std::vector<EpisodeStats>& episodes);
+  // appends this start or resume to the status's sessions (when, from which steps, on which
+  // machine and build); on resume, says so when the machine or build changed
+  void begin_session(bool resumed);
   void save_checkpoint();
   void load_checkpoint(const std::string& path, bool weights_only);
   void export_policies();

@@ -15,6 +15,7 @@
 #include "env/register_builtin_envs.h"
 #include "rl/config/config_parser.h"
 #include "rl/core/bad_numbers.h"
+#include "rl/core/machine_info.h"
 #include "rl/env_api/env_registry.h"
 #include "rl/selfplay/self_play.h"
 #include "rl/trainer/saved_run.h"
@@ -499,6 +500,50 @@ TEST_F(TrainingRunTest, ExistingRunWithoutResumeOrForceTouchesNothing) {
   opt.force = true;
   TrainingRun forced(small_config("CartPole", "CartPole", 600, 1000), opt);
   EXPECT_EQ(RunFolder(dir_.string(), "exists").read_status().checkpoints.size(), 0u);
+}
+
+TEST_F(TrainingRunTest, EachSessionRecordsItsMachineAndAResumeElsewhereSaysSo) {
+  const RunFolder folder(dir_.string(), "machine");
+  {
+    TrainingRun first(small_config("CartPole", "CartPole", 3000, 1000), options("machine"));
+    first.train(/*stop_after_boundaries=*/1);
+  }
+  TrainingStatus status = folder.read_status();
+  ASSERT_EQ(status.sessions.size(), 1u);
+  EXPECT_EQ(status.sessions[0].steps.at("CartPole"), 0);
+  EXPECT_TRUE(std::regex_match(status.sessions[0].started,
+                               std::regex("\\d{4}-\\d{2}-\\d{2}T\\d{2}:\\d{2}:\\d{2}Z")));
+  EXPECT_EQ(machine_difference(status.sessions[0].machine, current_machine()), "");
+  const int64_t checkpoint_steps = status.checkpoints.back().steps.at("CartPole");
+  // resumed on the same machine and build: a second session, and no note
+  auto opt = options("machine");
+  opt.resume = true;
+  { TrainingRun(small_config("CartPole", "CartPole", 3000, 1000), opt).train(1); }
+  EXPECT_EQ(log_.str().find("another machine"), std::string::npos);
+  status = folder.read_status();
+  ASSERT_EQ(status.sessions.size(), 2u);
+  EXPECT_EQ(status.sessions[1].steps.at("CartPole"), checkpoint_steps);
+  // as if the last session had run on another CPU with other kernels
+  status.sessions.back().machine.cpu = "Other CPU";
+  status.sessions.back().machine.blas_kernels = "Prescott";
+  folder.write_status(status);
+  log_.str("");
+  { TrainingRun(small_config("CartPole", "CartPole", 3000, 1000), opt); }
+  const std::string said = log_.str();
+  EXPECT_NE(said.find("Note: resuming on another machine or build"), std::string::npos) << said;
+  EXPECT_NE(said.find("CPU Other CPU -> " + current_machine().cpu), std::string::npos) << said;
+  EXPECT_NE(said.find("BLAS kernels Prescott -> "), std::string::npos) << said;
+  EXPECT_EQ(folder.read_status().sessions.size(), 3u);
+}
+
+TEST_F(TrainingRunTest, StatusFilesFromBeforeSessionsStillRead) {
+  fs::create_directories(dir_ / "old");
+  std::ofstream(dir_ / "old" / "training_status.json")
+      << "{\"run_id\": \"old\", \"finished\": true, \"lessons\": {}, \"elo\": {}, "
+         "\"strategies\": {}, \"checkpoints\": []}\n";
+  const TrainingStatus status = RunFolder(dir_.string(), "old").read_status();
+  EXPECT_TRUE(status.finished);
+  EXPECT_TRUE(status.sessions.empty());
 }
 
 TEST_F(TrainingRunTest, InitializeFromStartsWithTheOtherRunsWeightsAndFreshCounters) {
