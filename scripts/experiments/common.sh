@@ -67,6 +67,17 @@ emerged() {
   fi
 }
 
+# machines RUN_ID: the CPUs and OpenBLAS kernels the run's sessions ran on, "unrecorded" for runs
+# from before training_status.json recorded them. A seed's figures hold on one machine only.
+machines() {
+  local status=$RESULTS/$1/training_status.json
+  local found
+  found=$({ grep -o '"cpu": "[^"]*", "cores": [0-9]*, "blas_kernels": "[^"]*"' "$status" || true; } |
+    sed 's/"cpu": "\([^"]*\)", "cores": \([0-9]*\), "blas_kernels": "\([^"]*\)"/\1 (\2 cores, OpenBLAS \3)/' |
+    sort -u | paste -sd ';' - | sed 's/;/; /g')
+  echo "${found:-unrecorded}"
+}
+
 # emerged_minutes RUN_ID STRATEGY: training minutes when STRATEGY emerged
 emerged_minutes() {
   local status=$RESULTS/$1/training_status.json

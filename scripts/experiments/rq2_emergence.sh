@@ -4,7 +4,8 @@
 # the emergence steps the run recorded (training_status.json: the first step where the rate over
 # the last 100 episodes exceeds 0.5; shelter counts episodes at level 2 and above with the props
 # starting at their own places). Writes
-# docs/results/rq2_emergence.md with the paper's and OpenAI's figures next to ours.
+# docs/results/rq2_emergence.md with the paper's and OpenAI's figures next to ours, and the machine
+# each run ran on (a seed's figures hold on one machine only).
 source "$(dirname "$0")/common.sh"
 ensure_built
 ensure_gnuplot
@@ -16,10 +17,10 @@ report=$REPORTS/rq2_emergence.md
   echo "Produced by \`scripts/experiments/rq2_emergence.sh\` on $(date -u +%Y-%m-%d) from"
   echo "\`configs/hide_and_seek.yaml\`${STEPS:+ with --max-steps $STEPS}, seeds: $SEEDS, on $(nproc) cores."
   echo
-  echo "| | running and chasing (seeker steps) | shelter (hider steps) |"
-  echo "|---|---|---|"
-  echo "| paper (Unity ML-Agents) | 1.6M | 2.3M |"
-  echo "| OpenAI hide-and-seek | about 2M | about 25M |"
+  echo "| | running and chasing (seeker steps) | shelter (hider steps) | machine |"
+  echo "|---|---|---|---|"
+  echo "| paper (Unity ML-Agents) | 1.6M | 2.3M | |"
+  echo "| OpenAI hide-and-seek | about 2M | about 25M | |"
 } > "$report"
 for seed in $SEEDS; do
   run_id=rq2_default_s$seed
@@ -28,7 +29,7 @@ for seed in $SEEDS; do
   shelter=$(emerged "$run_id" shelter)
   chase_min=$(emerged_minutes "$run_id" running_and_chasing)
   shelter_min=$(emerged_minutes "$run_id" shelter)
-  echo "| ours, seed $seed | $chase${chase_min:+ ($chase_min min)} | $shelter${shelter_min:+ ($shelter_min min)} |" >> "$report"
+  echo "| ours, seed $seed | $chase${chase_min:+ ($chase_min min)} | $shelter${shelter_min:+ ($shelter_min min)} | $(machines "$run_id") |" >> "$report"
   plot "$REPORTS/rq2_s$seed" "$run_id"
   {
     echo
