@@ -28,7 +28,9 @@ env_settings.stagger_steps S (default 0) spreads the env instances over their ep
 every start and checkpoint instance i first plays i x S / num_envs still steps, not learned from.
 A behavior's self_play.turn_parameters hold for the episodes begun while its team learns.
 A lesson's behavior_max_steps ({Seeker: 2000000}) raises those behaviors' max_steps from that
-lesson on, so a behavior that had finished takes turns again.
+lesson on, so a behavior that had finished takes turns again. A completion_criteria's
+fallback_threshold (with fallback_length, in episodes) sends a lesson back to the one before when
+its measure over the last episodes falls to it; the log names the lessons and the measure.
 
 Options:
   --run-id ID            run folder name (default: checkpoint_settings.run_id)

@@ -1011,6 +1011,7 @@ CompletionCriteria Parser::parse_completion_criteria(const Val& value,
   bool has_behavior = false;
   std::optional<Val> threshold;
   std::optional<Val> metric;
+  std::optional<Val> fallback, fallback_length;
   dispatch(
       value,
       {
@@ -1045,6 +1046,16 @@ CompletionCriteria Parser::parse_completion_criteria(const Val& value,
              threshold = v;
            }},
           {"require_reset", [&](const Val& v) { criteria.require_reset = read_bool(v); }},
+          {"fallback_threshold",
+           [&](const Val& v) {
+             criteria.fallback_threshold = read_real(v, kAnyReal);
+             fallback = v;
+           }},
+          {"fallback_length",
+           [&](const Val& v) {
+             criteria.fallback_length = read_int32(v, IntRange{1, kIntMax});
+             fallback_length = v;
+           }},
       });
   if (criteria.measure == CompletionMeasure::kMetric) {
     if (!metric) {
@@ -1065,6 +1076,15 @@ CompletionCriteria Parser::parse_completion_criteria(const Val& value,
          "with measure: progress, expected a number in [0, 1] (a fraction of "
          "max_steps), got " +
              describe(threshold->node));
+  }
+  if (fallback && criteria.measure == CompletionMeasure::kProgress)
+    fail(*fallback, "is only read with measure: reward or metric (progress never falls back)");
+  if (fallback_length && !fallback)
+    fail(*fallback_length, "is only read with fallback_threshold");
+  if (fallback && !(*criteria.fallback_threshold < criteria.threshold)) {
+    fail(*fallback, "expected a number below threshold (" + format_float(criteria.threshold, false) +
+                        "), got " + describe(fallback->node) +
+                        ": a lesson that falls back at its own threshold would never end");
   }
   return criteria;
 }
@@ -1368,6 +1388,12 @@ void emit_environment_parameters(
         out << YAML::Key << "signal_smoothing" << YAML::Value << criteria.signal_smoothing;
         out << YAML::Key << "threshold" << YAML::Value << format_float(criteria.threshold, false);
         out << YAML::Key << "require_reset" << YAML::Value << criteria.require_reset;
+        if (criteria.fallback_threshold) {
+          out << YAML::Key << "fallback_threshold" << YAML::Value
+              << format_float(*criteria.fallback_threshold, false);
+          if (criteria.fallback_length > 0)
+            out << YAML::Key << "fallback_length" << YAML::Value << criteria.fallback_length;
+        }
         out << YAML::EndMap;
       }
       out << YAML::EndMap;

@@ -5,6 +5,7 @@
 // and rejects unknown keys, wrong types and out-of-range values with the file and key path.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <map>
@@ -188,11 +189,22 @@ struct CompletionCriteria {
   bool signal_smoothing = true;  // reward, metric: 0.25 * previous smoothed value + 0.75 * mean
   double threshold = 0.0;        // the measure must exceed it; progress: in [0, 1]
   bool require_reset = false;    // reset every environment as soon as the lesson ends
+  // Our extension, reward and metric only: a lesson whose skill collapsed goes back one lesson.
+  // When the mean measure (unsmoothed) of the lesson's last fallback_length counted episodes is at
+  // or below fallback_threshold, the curriculum returns to the lesson before, whose criteria then
+  // have to be met again. Unset: lessons only advance (ML-Agents). Ignored on a first lesson.
+  std::optional<double> fallback_threshold;
+  int fallback_length = 0;  // episodes; 0: min_lesson_length (at least 1)
 
   bool operator==(const CompletionCriteria& o) const {
     return behavior == o.behavior && measure == o.measure && metric == o.metric &&
            min_lesson_length == o.min_lesson_length && signal_smoothing == o.signal_smoothing &&
-           threshold == o.threshold && require_reset == o.require_reset;
+           threshold == o.threshold && require_reset == o.require_reset &&
+           fallback_threshold == o.fallback_threshold && fallback_length == o.fallback_length;
+  }
+  // the episodes a fallback judges: fallback_length, or min_lesson_length when it is 0
+  int fallback_episodes() const {
+    return fallback_length > 0 ? fallback_length : std::max(1, min_lesson_length);
   }
   bool operator!=(const CompletionCriteria& o) const { return !(*this == o); }
 };

@@ -102,6 +102,13 @@ std::string metric_key(const std::string& metric, const std::string& behavior) {
   return behavior.empty() ? metric : metric + "@" + behavior;
 }
 
+// The key of a fallback buffer: what the criterion measures, reward or metric.
+std::string fallback_key(const CompletionCriteria& criteria) {
+  return criteria.measure == CompletionMeasure::kMetric
+             ? "metric:" + metric_key(criteria.metric, criteria.behavior)
+             : "reward:" + criteria.behavior;
+}
+
 }  // namespace
 
 EnvironmentParameterManager::EnvironmentParameterManager(
@@ -120,6 +127,11 @@ EnvironmentParameterManager::EnvironmentParameterManager(
       int& capacity = (metric ? metric_capacity_ : capacity_)[key];
       capacity = std::max({capacity, 1, criteria.min_lesson_length});
       (metric ? metrics_ : rewards_)[key];
+      if (criteria.fallback_threshold && criteria.measure != CompletionMeasure::kProgress) {
+        int& length = fallback_capacity_[fallback_key(criteria)];
+        length = std::max(length, criteria.fallback_episodes());
+        fallbacks_[fallback_key(criteria)];
+      }
     }
   }
 }
@@ -145,7 +157,7 @@ int64_t EnvironmentParameterManager::max_steps(const std::string& behavior, int6
   int64_t budget = own;
   for (const auto& [name, state] : state_) {
     const std::vector<Lesson>& lessons = settings_.at(name).curriculum;
-    for (int i = 0; i <= state.lesson; ++i) {
+    for (int i = 0; i <= state.furthest; ++i) {
       const auto found = lessons[i].behavior_max_steps.find(behavior);
       if (found != lessons[i].behavior_max_steps.end()) budget = std::max(budget, found->second);
     }
@@ -161,6 +173,12 @@ Parameters EnvironmentParameterManager::sample(uint64_t seed) const {
 std::map<std::string, int> EnvironmentParameterManager::lessons() const {
   std::map<std::string, int> result;
   for (const auto& [name, state] : state_) result[name] = state.lesson;
+  return result;
+}
+
+std::map<std::string, int> EnvironmentParameterManager::furthest_lessons() const {
+  std::map<std::string, int> result;
+  for (const auto& [name, state] : state_) result[name] = state.furthest;
   return result;
 }
 
@@ -197,6 +215,7 @@ std::vector<double> as_vector(const std::map<std::string, std::deque<double>>& b
 
 void EnvironmentParameterManager::add_episode_reward(const std::string& behavior, double reward) {
   record(capacity_, rewards_, behavior, reward);
+  record(fallback_capacity_, fallbacks_, "reward:" + behavior, reward);
 }
 
 void EnvironmentParameterManager::add_episode_metrics(
@@ -210,6 +229,7 @@ void EnvironmentParameterManager::add_episode_metrics(
             learned_throughout.end())
       continue;
     record(metric_capacity_, metrics_, key, value->second);
+    record(fallback_capacity_, fallbacks_, "metric:" + key, value->second);
   }
 }
 
@@ -252,22 +272,63 @@ double EnvironmentParameterManager::smoothed_value(const std::string& parameter)
   return found == state_.end() ? 0.0 : found->second.smoothed;
 }
 
+std::string EnvironmentParameterManager::fall_back_if_collapsed(const std::string& name,
+                                                                ParameterState& state) {
+  const Lesson& lesson = settings_.at(name).curriculum[state.lesson];
+  if (state.lesson == 0 || !lesson.completion_criteria) return "";
+  const CompletionCriteria& criteria = *lesson.completion_criteria;
+  if (!criteria.fallback_threshold || criteria.measure == CompletionMeasure::kProgress) return "";
+  const std::deque<double>& values = fallbacks_.at(fallback_key(criteria));
+  const int length = criteria.fallback_episodes();
+  if (int(values.size()) < length) return "";
+  double mean = 0.0;
+  for (auto value = values.end() - length; value != values.end(); ++value) mean += *value;
+  mean /= double(length);
+  if (mean > *criteria.fallback_threshold) return "";
+  --state.lesson;
+  const std::string measured =
+      criteria.measure == CompletionMeasure::kMetric ? criteria.metric : "reward";
+  return "Curriculum " + name + ": back from lesson " + std::to_string(state.lesson + 1) + " (" +
+         lesson.name + ") to " + std::to_string(state.lesson) + " (" +
+         settings_.at(name).curriculum[state.lesson].name + "): mean " + measured + " " +
+         number_text(mean) + " over the last " + std::to_string(length) +
+         " episodes, at or below fallback_threshold " + number_text(*criteria.fallback_threshold);
+}
+
+void EnvironmentParameterManager::clear_buffers() {
+  for (auto& [behavior, rewards] : rewards_) rewards.clear();
+  for (auto& [metric, values] : metrics_) values.clear();
+  for (auto& [key, values] : fallbacks_) values.clear();
+}
+
 LessonUpdate EnvironmentParameterManager::update(
     const std::map<std::string, BehaviorProgress>& progress) {
   LessonUpdate result;
   for (auto& [name, state] : state_) {
     const std::vector<Lesson>& lessons = settings_.at(name).curriculum;
-    if (state.lesson + 1 >= int(lessons.size())) continue;  // the last lesson never ends
     const Lesson& lesson = lessons[state.lesson];
     if (!lesson.completion_criteria) continue;
     const CompletionCriteria& criteria = *lesson.completion_criteria;
     const bool metric = criteria.measure == CompletionMeasure::kMetric;
     const auto behavior = progress.find(criteria.behavior);
     if (!metric && behavior == progress.end()) continue;
+    const auto fall_back = [&] {
+      const std::string sentence = fall_back_if_collapsed(name, state);
+      if (sentence.empty()) return;
+      result.changed = true;
+      result.fallbacks.push_back(sentence);
+    };
+    if (state.lesson + 1 >= int(lessons.size())) {  // the last lesson never ends
+      fall_back();
+      continue;
+    }
     const std::deque<double>& values =
         metric ? metrics_.at(metric_key(criteria.metric, criteria.behavior))
                : rewards_.at(criteria.behavior);
-    if (int(values.size()) < criteria.min_lesson_length) continue;
+    if (int(values.size()) < criteria.min_lesson_length) {
+      fall_back();
+      continue;
+    }
 
     bool complete = false;
     if (criteria.measure == CompletionMeasure::kProgress) {
@@ -287,14 +348,14 @@ LessonUpdate EnvironmentParameterManager::update(
     }
     if (complete) {
       ++state.lesson;
+      state.furthest = std::max(state.furthest, state.lesson);
       result.changed = true;
       if (criteria.require_reset) result.require_reset = true;
+    } else {
+      fall_back();
     }
   }
-  if (result.changed) {
-    for (auto& [behavior, rewards] : rewards_) rewards.clear();
-    for (auto& [metric, values] : metrics_) values.clear();
-  }
+  if (result.changed) clear_buffers();
   return result;
 }
 
@@ -313,12 +374,10 @@ LessonUpdate EnvironmentParameterManager::follow(const std::map<std::string, int
       if (criteria && criteria->require_reset) result.require_reset = true;
     }
     state.lesson = it->second;
+    state.furthest = std::max(state.furthest, state.lesson);
     result.changed = true;
   }
-  if (result.changed) {
-    for (auto& [behavior, rewards] : rewards_) rewards.clear();
-    for (auto& [metric, values] : metrics_) values.clear();
-  }
+  if (result.changed) clear_buffers();
   return result;
 }
 
@@ -329,7 +388,8 @@ std::string EnvironmentParameterManager::serialize() const {
     text += (first ? "" : ", ") + json_quote(name) +
             ": {\"lesson\": " + std::to_string(state.lesson) +
             ", \"lesson_name\": " + json_quote(settings_.at(name).curriculum[state.lesson].name) +
-            ", \"smoothed_value\": " + number_text(state.smoothed) + "}";
+            ", \"smoothed_value\": " + number_text(state.smoothed) +
+            ", \"furthest_lesson\": " + std::to_string(state.furthest) + "}";
     first = false;
   }
   const auto buffers_text = [](const std::map<std::string, std::deque<double>>& buffers) {
@@ -345,6 +405,7 @@ std::string EnvironmentParameterManager::serialize() const {
   };
   text += "}, \"reward_buffers\": {" + buffers_text(rewards_) + "}";
   if (!metrics_.empty()) text += ", \"metric_buffers\": {" + buffers_text(metrics_) + "}";
+  if (!fallbacks_.empty()) text += ", \"fallback_buffers\": {" + buffers_text(fallbacks_) + "}";
   return text + "}";
 }
 
@@ -385,6 +446,16 @@ void EnvironmentParameterManager::deserialize(const std::string& state) {
                   "': its curriculum changed since (start a new run, or restore the old lessons)");
       }
       found->second.lesson = int(lesson);
+      found->second.furthest = int(lesson);  // states from before fallbacks: never went back
+      if (values["furthest_lesson"]) {
+        const double furthest =
+            read_number(values["furthest_lesson"], "parameters." + name + ".furthest_lesson");
+        if (furthest != std::floor(furthest) || furthest < lesson || furthest >= lesson_count) {
+          bad_state("parameters." + name + ".furthest_lesson: " + number_text(furthest) +
+                    " is not a lesson at or after lesson " + number_text(lesson));
+        }
+        found->second.furthest = int(furthest);
+      }
       if (values["smoothed_value"]) {
         found->second.smoothed =
             read_number(values["smoothed_value"], "parameters." + name + ".smoothed_value");
@@ -414,9 +485,11 @@ void EnvironmentParameterManager::deserialize(const std::string& state) {
   };
   auto rewards = read_buffers("reward_buffers", capacity_);
   auto metrics = read_buffers("metric_buffers", metric_capacity_);
+  auto fallbacks = read_buffers("fallback_buffers", fallback_capacity_);
   state_ = std::move(states);
   rewards_ = std::move(rewards);
   metrics_ = std::move(metrics);
+  fallbacks_ = std::move(fallbacks);
 }
 
 }  // namespace rlt

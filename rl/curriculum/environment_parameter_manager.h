@@ -26,9 +26,15 @@
 //   lesson when the result > threshold. A parameter moves at most one lesson per update(). When
 //   any parameter moved, every buffer is cleared. Smoothed values persist across lessons
 //   (they start at 0), as in ML-Agents.
+// - Our extension, a criterion's `fallback_threshold`: update() also looks at every curriculum
+//   parameter past its first lesson whose lesson's criteria set one. When the buffer of the last
+//   fallback_length episodes it measures (kept apart from the completion buffers, so that
+//   completion is judged as without it) is full and its mean is at or below fallback_threshold,
+//   the parameter goes back one lesson; the smoothed value stays. A lesson that completes does not
+//   fall back in the same update().
 // - Our extension, a lesson's `behavior_max_steps`: max_steps() gives a behavior's step budget
-//   as the largest of its own and the budgets of every lesson reached so far (lessons only
-//   advance, so a budget holds from its lesson on).
+//   as the largest of its own and the budgets of every lesson reached so far (the furthest
+//   lesson reached counts, so a budget holds from its lesson on even after a fallback).
 // - serialize() / deserialize() carry the lessons, the smoothed values and the buffers over
 //   --resume exactly.
 //
@@ -55,8 +61,10 @@ struct BehaviorProgress {
 
 // The outcome of one update().
 struct LessonUpdate {
-  bool changed = false;        // at least one parameter moved to its next lesson
+  bool changed = false;        // at least one parameter moved to its next or previous lesson
   bool require_reset = false;  // ... and the completed lesson asked to reset the environments now
+  // one sentence per parameter that fell back, naming it, the lessons and the measure
+  std::vector<std::string> fallbacks;
 };
 
 class EnvironmentParameterManager {
@@ -101,6 +109,9 @@ class EnvironmentParameterManager {
   // name `behavior` (empty: name none), oldest first.
   std::vector<double> metric_buffer(const std::string& metric,
                                     const std::string& behavior = "") const;
+  // The furthest lesson each curriculum parameter has reached (lessons() after a fallback is
+  // below it).
+  std::map<std::string, int> furthest_lessons() const;
   // Throws std::invalid_argument naming the parameter and lesson when a criterion measures an
   // episode metric that is not in `names` (the env's; see VectorEnv::episode_metric_names).
   void check_metric_names(const std::vector<std::string>& names) const;
@@ -128,8 +139,13 @@ class EnvironmentParameterManager {
  private:
   struct ParameterState {
     int lesson = 0;
+    int furthest = 0;  // the furthest lesson reached
     double smoothed = 0.0;
   };
+  // Goes back one lesson when the current lesson's fallback criterion says so; returns the
+  // sentence for LessonUpdate::fallbacks, or "" when the lesson stays.
+  std::string fall_back_if_collapsed(const std::string& name, ParameterState& state);
+  void clear_buffers();
 
   std::map<std::string, EnvironmentParameterSettings> settings_;
   std::map<std::string, ParameterState> state_;        // curriculum parameters only
@@ -144,6 +160,10 @@ class EnvironmentParameterManager {
   std::map<std::string, MetricSource> metric_sources_;  // per buffer key
   std::map<std::string, int> metric_capacity_;         // buffer size per key
   std::map<std::string, std::deque<double>> metrics_;  // per key, oldest first
+  // Fallback buffers, keyed by fallback_key(): the last fallback_length values of what a criterion
+  // with a fallback_threshold measures (the largest such length per key).
+  std::map<std::string, int> fallback_capacity_;
+  std::map<std::string, std::deque<double>> fallbacks_;
 };
 
 }  // namespace rlt

@@ -501,6 +501,7 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
   // data-parallel: rank 0 decides; the others moved to its lessons in sync_ranks
   const LessonUpdate u = rank() == 0 ? parameters_.update(progress) : pending_follow_;
   pending_follow_ = LessonUpdate{};
+  for (const std::string& sentence : u.fallbacks) *log_ << sentence << "\n";
   if (u.changed) {
     ++lesson_epoch_;
     apply_step_budgets();

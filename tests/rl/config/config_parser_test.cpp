@@ -671,6 +671,21 @@ TEST(ConfigParserErrorTest, CompletionCriteriaErrors) {
       with_parameters("  h:\n    curriculum:\n      - name: A\n        value: 1\n"
                       "        completion_criteria: 5\n      - name: B\n        value: 2\n"),
       path, 10, "expected a mapping, got '5'");
+  // fallback_threshold (our extension): reward or metric, below threshold; its length needs it
+  expect_error(with_criteria("          behavior: CartPole\n          measure: progress\n"
+                             "          threshold: 0.5\n          fallback_threshold: 0.1\n"),
+               path + ".fallback_threshold", 14, "is only read with measure: reward or metric");
+  expect_error(with_criteria("          behavior: CartPole\n          threshold: 0.5\n"
+                             "          fallback_threshold: 0.5\n"),
+               path + ".fallback_threshold", 13,
+               "expected a number below threshold (0.5), got '0.5': a lesson that falls back at "
+               "its own threshold would never end");
+  expect_error(with_criteria("          behavior: CartPole\n          threshold: 0.5\n"
+                             "          fallback_length: 10\n"),
+               path + ".fallback_length", 13, "is only read with fallback_threshold");
+  expect_error(with_criteria("          behavior: CartPole\n          threshold: 0.5\n"
+                             "          fallback_threshold: 0.1\n          fallback_length: 0\n"),
+               path + ".fallback_length", 14, "expected a positive integer");
   // A reward threshold may be any number.
   EXPECT_EQ(parse(with_criteria("          behavior: CartPole\n          threshold: -3\n"))
                 .environment_parameters.at("h")
@@ -695,6 +710,28 @@ TEST(ConfigParserTest, MetricMeasuredLessonRoundTrips) {
   const RunConfig again = parse(yaml);
   EXPECT_EQ(again.environment_parameters.at("h").curriculum[0].completion_criteria, criteria);
   EXPECT_EQ(run_config_to_yaml(again), yaml);
+}
+
+TEST(ConfigParserTest, FallbackCriteriaRoundTrip) {
+  for (const std::string length : {"", "          fallback_length: 200\n"}) {
+    const RunConfig config = parse(with_criteria(
+        "          measure: metric\n          metric: fort_rate\n          threshold: 0.5\n"
+        "          min_lesson_length: 50\n          fallback_threshold: 0.02\n" +
+        length));
+    const CompletionCriteria& criteria =
+        *config.environment_parameters.at("h").curriculum[0].completion_criteria;
+    EXPECT_EQ(criteria.fallback_threshold, std::optional<double>(0.02));
+    EXPECT_EQ(criteria.fallback_episodes(), length.empty() ? 50 : 200);
+    const std::string yaml = run_config_to_yaml(config);
+    EXPECT_NE(yaml.find("fallback_threshold: 0.02"), std::string::npos) << yaml;
+    const RunConfig again = parse(yaml);
+    EXPECT_EQ(again.environment_parameters.at("h").curriculum[0].completion_criteria, criteria);
+    EXPECT_EQ(run_config_to_yaml(again), yaml);
+  }
+  // without it nothing is written
+  const std::string plain = run_config_to_yaml(
+      parse(with_criteria("          behavior: CartPole\n          threshold: 0.5\n")));
+  EXPECT_EQ(plain.find("fallback"), std::string::npos) << plain;
 }
 
 // other_parameters: a lesson may set further env parameters; every lesson names the same ones and

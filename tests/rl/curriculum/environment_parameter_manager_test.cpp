@@ -347,7 +347,8 @@ TEST(EnvironmentParameterManagerTest, SerializedStateShape) {
   manager.add_episode_reward("Jumper", 1e-7);
   EXPECT_EQ(manager.serialize(),
             "{\"parameters\": {\"height\": {\"lesson\": 0, \"lesson_name\": \"Low\", "
-            "\"smoothed_value\": 0.375}}, \"reward_buffers\": {\"Jumper\": [0.75, 1e-07]}}");
+            "\"smoothed_value\": 0.375, \"furthest_lesson\": 0}}, \"reward_buffers\": "
+            "{\"Jumper\": [0.75, 1e-07]}}");
 }
 
 TEST(EnvironmentParameterManagerTest, DeserializeChecksTheState) {
@@ -548,6 +549,104 @@ TEST(EnvironmentParameterManagerTest, EmptyManager) {
   EnvironmentParameterManager restored;
   restored.deserialize(manager.serialize());
   EXPECT_TRUE(restored.lessons().empty());
+}
+
+}  // namespace
+}  // namespace rlt
+
+namespace rlt {
+namespace {
+
+// Three lessons of `offset` measured on "fort_rate" (threshold 0.5 over 2 episodes, no
+// smoothing) that fall back when the mean of the last 3 episodes is at or below 0.25.
+EnvironmentParameterManager falling_lessons() {
+  CompletionCriteria forts;
+  forts.measure = CompletionMeasure::kMetric;
+  forts.metric = "fort_rate";
+  forts.threshold = 0.5;
+  forts.min_lesson_length = 2;
+  forts.signal_smoothing = false;
+  forts.fallback_threshold = 0.25;
+  forts.fallback_length = 3;
+  Lesson near = lesson("Near", 0.f, forts), mid = lesson("Mid", 0.5f, forts),
+         far = lesson("Far", 1.f, forts);
+  mid.behavior_max_steps = {{"Seeker", 500}};
+  return EnvironmentParameterManager({{"offset", curriculum({near, mid, far})}});
+}
+
+void add_forts(EnvironmentParameterManager* manager, const std::vector<float>& rates) {
+  for (const float rate : rates) manager->add_episode_metrics({{"fort_rate", rate}});
+}
+
+TEST(EnvironmentParameterManagerTest, ACollapsedLessonFallsBackOneLesson) {
+  EnvironmentParameterManager manager = falling_lessons();
+  add_forts(&manager, {1.f, 1.f});
+  ASSERT_TRUE(manager.update({}).changed);  // Near -> Mid
+  // two bad episodes are not yet the three the fallback judges; the completion needs > 0.5
+  add_forts(&manager, {0.f, 0.f});
+  LessonUpdate update = manager.update({});
+  EXPECT_FALSE(update.changed);
+  EXPECT_TRUE(update.fallbacks.empty());
+  // the third: mean 0 over the last 3 <= 0.25
+  add_forts(&manager, {0.f});
+  update = manager.update({});
+  EXPECT_TRUE(update.changed);
+  EXPECT_FALSE(update.require_reset);
+  ASSERT_EQ(update.fallbacks.size(), 1u);
+  EXPECT_NE(update.fallbacks[0].find("offset: back from lesson 1 (Mid) to 0 (Near): mean "
+                                     "fort_rate 0 over the last 3 episodes"),
+            std::string::npos)
+      << update.fallbacks[0];
+  EXPECT_EQ(manager.lessons().at("offset"), 0);
+  EXPECT_TRUE(manager.metric_buffer("fort_rate").empty());
+  // the first lesson never falls back
+  add_forts(&manager, {0.f, 0.f, 0.f});
+  EXPECT_FALSE(manager.update({}).changed);
+  // the furthest lesson keeps its step budget and survives a resume
+  EXPECT_EQ(manager.furthest_lessons().at("offset"), 1);
+  EXPECT_EQ(manager.max_steps("Seeker", 100), 500);
+  EnvironmentParameterManager resumed = falling_lessons();
+  resumed.deserialize(manager.serialize());
+  EXPECT_EQ(resumed.lessons().at("offset"), 0);
+  EXPECT_EQ(resumed.furthest_lessons().at("offset"), 1);
+  EXPECT_EQ(resumed.max_steps("Seeker", 100), 500);
+}
+
+TEST(EnvironmentParameterManagerTest, FallbackJudgesOnlyTheLastEpisodesAboveItsThreshold) {
+  EnvironmentParameterManager manager = falling_lessons();
+  add_forts(&manager, {1.f, 1.f});
+  ASSERT_TRUE(manager.update({}).changed);
+  // 0.375 over the last three (above 0.25), though the lesson's first episodes were worse
+  add_forts(&manager, {0.f, 0.f, 0.f, 0.375f, 0.375f, 0.375f});
+  // (the completion mean over its buffer of 2 is 0.375: no advance either)
+  EXPECT_FALSE(manager.update({}).changed);
+  EXPECT_EQ(manager.lessons().at("offset"), 1);
+  // exactly at the threshold falls back
+  add_forts(&manager, {0.25f, 0.25f, 0.25f});
+  EXPECT_TRUE(manager.update({}).changed);
+  EXPECT_EQ(manager.lessons().at("offset"), 0);
+}
+
+TEST(EnvironmentParameterManagerTest, TheLastLessonFallsBackAndCompletionIsUnchanged) {
+  EnvironmentParameterManager manager = falling_lessons();
+  add_forts(&manager, {1.f, 1.f});
+  ASSERT_TRUE(manager.update({}).changed);
+  add_forts(&manager, {1.f, 1.f});
+  ASSERT_TRUE(manager.update({}).changed);
+  EXPECT_EQ(manager.lesson_names().at("offset"), "Far");
+  // the completion buffer keeps min_lesson_length (2) episodes, not the fallback's 3
+  add_forts(&manager, {0.f, 0.f, 0.f});
+  EXPECT_EQ(manager.metric_buffer("fort_rate"), (std::vector<double>{0.0, 0.0}));
+  EXPECT_TRUE(manager.update({}).changed);
+  EXPECT_EQ(manager.lesson_names().at("offset"), "Mid");
+  // the control: without fallback_threshold the same episodes leave the lesson alone
+  EnvironmentParameterManager plain = three_lessons(2, 0.5);
+  plain.add_episode_reward("Jumper", 1.0);
+  plain.add_episode_reward("Jumper", 1.0);
+  ASSERT_TRUE(plain.update(kJumperProgress).changed);
+  for (int i = 0; i < 10; ++i) plain.add_episode_reward("Jumper", -5.0);
+  EXPECT_FALSE(plain.update(kJumperProgress).changed);
+  EXPECT_EQ(plain.lessons().at("height"), 1);
 }
 
 }  // namespace

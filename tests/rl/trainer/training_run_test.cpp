@@ -353,7 +353,9 @@ TEST_F(TrainingRunTest, CurriculumCountsTheLearningBehaviorsStepsAndSurvivesResu
 // LessonEchoEnv with a curriculum on x measured by its episode metrics: lesson A ends after two
 // episodes (any value), lesson B when an episode played in it reports x < 0.5, which only an
 // episode begun in lesson A (x = 0) can.
-RunConfig echo_curriculum_config(const std::string& second_metric) {
+RunConfig echo_curriculum_config(const std::string& second_metric,
+                                  const std::string& second_extra = "",
+                                  const std::string& second_threshold = "0") {
   std::ostringstream y;
   y << "behaviors:\n  Echo:\n    trainer_type: ppo\n"
     << "    hyperparameters: {batch_size: 16, buffer_size: 64, num_epoch: 1}\n"
@@ -365,7 +367,8 @@ RunConfig echo_curriculum_config(const std::string& second_metric) {
        "min_lesson_length: 2}\n"
     << "      - name: B\n        value: 1\n"
     << "        completion_criteria: {measure: metric, metric: " << second_metric
-    << ", threshold: 0, min_lesson_length: 1, signal_smoothing: false}\n"
+    << ", threshold: " << second_threshold
+    << ", min_lesson_length: 1, signal_smoothing: false" << second_extra << "}\n"
     << "      - name: C\n        value: 2\n"
     << "env_settings: {env_id: LessonEchoEnv, num_envs: 3, seed: 0}\n";
   return load_run_config_from_string(y.str(), "echo.yaml");
@@ -382,6 +385,26 @@ TEST_F(TrainingRunTest, MetricLessonsCountOnlyEpisodesPlayedInTheLesson) {
   for (double v : run.parameters().metric_buffer("below_half")) EXPECT_EQ(v, 0.0);
   EXPECT_FALSE(run.parameters().metric_buffer("value").empty());
   for (double v : run.parameters().metric_buffer("value")) EXPECT_EQ(v, 1.0);
+}
+
+TEST_F(TrainingRunTest, ACollapsedLessonFallsBackAndTheLogSaysSo) {
+  // lesson B's episodes report value 1; with threshold 5 B never ends
+  const auto config = [](const std::string& extra) {
+    return echo_curriculum_config("value", extra, "5");
+  };
+  // the control: without a fallback the run stays in B
+  TrainingRun plain(config(""), options("echo_plain"));
+  plain.train();
+  EXPECT_EQ(plain.parameters().lesson_names().at("x"), "B");
+  EXPECT_EQ(log_.str().find("back from"), std::string::npos) << log_.str();
+  // a fallback at 1 over 2 episodes sends B back to A, which its own criteria end again
+  TrainingRun run(config(", fallback_threshold: 1, fallback_length: 2"), options("echo_fallback"));
+  run.train();
+  EXPECT_NE(log_.str().find("Curriculum x: back from lesson 1 (B) to 0 (A): mean value 1 over "
+                            "the last 2 episodes, at or below fallback_threshold 1"),
+            std::string::npos)
+      << log_.str();
+  EXPECT_EQ(run.parameters().furthest_lessons().at("x"), 1);
 }
 
 TEST_F(TrainingRunTest, UnknownCurriculumMetricIsAnErrorBeforeWriting) {
