@@ -215,7 +215,7 @@ std::vector<double> as_vector(const std::map<std::string, std::deque<double>>& b
 
 void EnvironmentParameterManager::add_episode_reward(const std::string& behavior, double reward) {
   record(capacity_, rewards_, behavior, reward);
-  record(fallback_capacity_, fallbacks_, "reward:" + behavior, reward);
+  if (!fallbacks_.empty()) record(fallback_capacity_, fallbacks_, "reward:" + behavior, reward);
 }
 
 void EnvironmentParameterManager::add_episode_metrics(
@@ -229,7 +229,7 @@ void EnvironmentParameterManager::add_episode_metrics(
             learned_throughout.end())
       continue;
     record(metric_capacity_, metrics_, key, value->second);
-    record(fallback_capacity_, fallbacks_, "metric:" + key, value->second);
+    if (!fallbacks_.empty()) record(fallback_capacity_, fallbacks_, "metric:" + key, value->second);
   }
 }
 
@@ -301,6 +301,30 @@ void EnvironmentParameterManager::clear_buffers() {
   for (auto& [key, values] : fallbacks_) values.clear();
 }
 
+bool EnvironmentParameterManager::completes(const CompletionCriteria& criteria,
+                                            ParameterState& state,
+                                            const BehaviorProgress* progress) {
+  const bool metric = criteria.measure == CompletionMeasure::kMetric;
+  const std::deque<double>& values =
+      metric ? metrics_.at(metric_key(criteria.metric, criteria.behavior))
+             : rewards_.at(criteria.behavior);
+  if (int(values.size()) < criteria.min_lesson_length) return false;
+  if (criteria.measure == CompletionMeasure::kProgress) {
+    const double fraction =
+        progress->max_steps > 0 ? double(progress->steps) / double(progress->max_steps) : 0.0;
+    return fraction > criteria.threshold;
+  }
+  if (values.empty()) return false;
+  double measure = 0.0;
+  for (const double value : values) measure += value;
+  measure /= double(values.size());
+  if (criteria.signal_smoothing) {
+    measure = 0.25 * state.smoothed + 0.75 * measure;
+    state.smoothed = measure;
+  }
+  return measure > criteria.threshold;
+}
+
 LessonUpdate EnvironmentParameterManager::update(
     const std::map<std::string, BehaviorProgress>& progress) {
   LessonUpdate result;
@@ -309,51 +333,21 @@ LessonUpdate EnvironmentParameterManager::update(
     const Lesson& lesson = lessons[state.lesson];
     if (!lesson.completion_criteria) continue;
     const CompletionCriteria& criteria = *lesson.completion_criteria;
-    const bool metric = criteria.measure == CompletionMeasure::kMetric;
     const auto behavior = progress.find(criteria.behavior);
-    if (!metric && behavior == progress.end()) continue;
-    const auto fall_back = [&] {
-      const std::string sentence = fall_back_if_collapsed(name, state);
-      if (sentence.empty()) return;
-      result.changed = true;
-      result.fallbacks.push_back(sentence);
-    };
-    if (state.lesson + 1 >= int(lessons.size())) {  // the last lesson never ends
-      fall_back();
-      continue;
-    }
-    const std::deque<double>& values =
-        metric ? metrics_.at(metric_key(criteria.metric, criteria.behavior))
-               : rewards_.at(criteria.behavior);
-    if (int(values.size()) < criteria.min_lesson_length) {
-      fall_back();
-      continue;
-    }
-
-    bool complete = false;
-    if (criteria.measure == CompletionMeasure::kProgress) {
-      const BehaviorProgress& p = behavior->second;
-      const double fraction = p.max_steps > 0 ? double(p.steps) / double(p.max_steps) : 0.0;
-      complete = fraction > criteria.threshold;
-    } else {
-      if (values.empty()) continue;
-      double measure = 0.0;
-      for (const double value : values) measure += value;
-      measure /= double(values.size());
-      if (criteria.signal_smoothing) {
-        measure = 0.25 * state.smoothed + 0.75 * measure;
-        state.smoothed = measure;
-      }
-      complete = measure > criteria.threshold;
-    }
-    if (complete) {
+    const bool measured_on_steps = criteria.measure != CompletionMeasure::kMetric;
+    if (measured_on_steps && behavior == progress.end()) continue;  // no trainer yet
+    const bool last = state.lesson + 1 >= int(lessons.size());      // the last lesson never ends
+    if (!last && completes(criteria, state, measured_on_steps ? &behavior->second : nullptr)) {
       ++state.lesson;
       state.furthest = std::max(state.furthest, state.lesson);
       result.changed = true;
       if (criteria.require_reset) result.require_reset = true;
-    } else {
-      fall_back();
+      continue;
     }
+    const std::string sentence = fall_back_if_collapsed(name, state);
+    if (sentence.empty()) continue;
+    result.changed = true;
+    result.fallbacks.push_back(sentence);
   }
   if (result.changed) clear_buffers();
   return result;

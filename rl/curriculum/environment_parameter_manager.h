@@ -142,6 +142,10 @@ class EnvironmentParameterManager {
     int furthest = 0;  // the furthest lesson reached
     double smoothed = 0.0;
   };
+  // Whether the lesson measured by `criteria` is complete (updating the smoothed value);
+  // `progress` is the measured behavior's, null for a metric.
+  bool completes(const CompletionCriteria& criteria, ParameterState& state,
+                 const BehaviorProgress* progress);
   // Goes back one lesson when the current lesson's fallback criterion says so; returns the
   // sentence for LessonUpdate::fallbacks, or "" when the lesson stays.
   std::string fall_back_if_collapsed(const std::string& name, ParameterState& state);
