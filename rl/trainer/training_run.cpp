@@ -545,6 +545,23 @@ void TrainingRun::save_checkpoint() {
   write_string(archive, "run.parameters", parameters_.serialize());
   write_vector(archive, "run.lesson_resets", std::vector<int64_t>{lesson_resets_});
   {
+    // the env episodes since the last row of metrics/episodes.csv: a boundary need not fall on a
+    // summary, and a resumed run's next row counts them as the uninterrupted run's does
+    torch::serialize::OutputArchive window;
+    std::string names;  // one per line
+    std::vector<double> sums;
+    std::vector<int64_t> counts = {episode_window_count_};  // then one per metric
+    for (const auto& [name, sum_count] : episode_window_) {
+      names += name + "\n";
+      sums.push_back(sum_count.first);
+      counts.push_back(sum_count.second);
+    }
+    write_string(window, "names", names);
+    write_vector(window, "sums", sums);
+    write_vector(window, "counts", counts);
+    archive.write("run.episode_window", window);
+  }
+  {
     std::ostringstream rng;
     rng << parameter_rng_;
     write_string(archive, "run.parameter_rng", rng.str());
@@ -623,6 +640,18 @@ void TrainingRun::load_checkpoint(const std::string& path, bool weights_only) {
     parameters_.deserialize(read_string(archive, "run.parameters"));
     apply_step_budgets();
     lesson_resets_ = read_vector<int64_t>(archive, "run.lesson_resets").at(0);
+    episode_window_.clear();
+    episode_window_count_ = 0;
+    torch::serialize::InputArchive window;
+    if (archive.try_read("run.episode_window", window)) {  // older checkpoints: an empty window
+      std::istringstream names(read_string(window, "names"));
+      const auto sums = read_vector<double>(window, "sums");
+      const auto counts = read_vector<int64_t>(window, "counts");
+      episode_window_count_ = counts.at(0);
+      std::string name;
+      for (size_t i = 0; std::getline(names, name); ++i)
+        episode_window_[name] = {sums.at(i), int(counts.at(i + 1))};
+    }
     std::istringstream rng(read_string(archive, "run.parameter_rng"));
     rng >> parameter_rng_;
     boundary_index_ = read_vector<int64_t>(archive, "run.boundary_index").at(0);

@@ -350,6 +350,87 @@ TEST_F(TrainingRunTest, CurriculumCountsTheLearningBehaviorsStepsAndSurvivesResu
   for (size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(torch::equal(a[i], b[i])) << i;
 }
 
+// Pursuit as the hide-and-seek run plays it, small: Hider on PPO and Seeker on MA-POCA take turns
+// of different lengths, opponents are drawn from windows of snapshots or the latest policy, the
+// seekers' turns play their turn_parameters, `level` advances on an episode metric and falls back
+// when it collapses, and the seekers stop at their max_steps while the hiders go on.
+RunConfig pursuit_self_play_config() {
+  std::ostringstream y;
+  y << "default_settings:\n"
+    << "  hyperparameters: {batch_size: 32, buffer_size: 128, num_epoch: 1}\n"
+    << "  network_settings: {hidden_units: 8, num_layers: 1, normalize: true}\n"
+    << "  time_horizon: 16\n  summary_freq: 400\n  checkpoint_interval: 1000\n"
+    << "behaviors:\n"
+    << "  Hider:\n    trainer_type: ppo\n    max_steps: 6000\n"
+    << "    self_play: {save_steps: 250, team_change: 700, swap_steps: 90, window: 3,\n"
+    << "                play_against_latest_model_ratio: 0.5}\n"
+    << "  Seeker:\n    trainer_type: poca\n    max_steps: 2500\n"
+    << "    self_play: {save_steps: 300, team_change: 1300, swap_steps: 110, window: 2,\n"
+    << "                play_against_latest_model_ratio: 0.5, turn_parameters: {prep_fraction: 0.1}}\n"
+    << "environment_parameters:\n  level:\n    curriculum:\n"
+    << "      - name: one\n        value: 1\n"
+    << "        completion_criteria: {measure: metric, metric: seen_fraction, threshold: 0.3,"
+       " min_lesson_length: 8, fallback_threshold: 0.2, fallback_length: 4}\n"
+    << "      - name: two\n        value: 2\n"
+    << "        completion_criteria: {measure: metric, metric: seen_fraction, threshold: 0.95,"
+       " min_lesson_length: 8, fallback_threshold: 0.5, fallback_length: 6}\n"
+    << "      - name: three\n        value: 3\n"
+    << "env_settings: {env_id: Pursuit, num_envs: 3, seed: 3, params: {episode_length: 30}}\n";
+  return load_run_config_from_string(y.str(), "pursuit_self_play.yaml");
+}
+
+TEST_F(TrainingRunTest, SelfPlayWithTwoBehaviorsAndACurriculumResumesBitIdentically) {
+  TrainingRun whole(pursuit_self_play_config(), options("hs_whole"));
+  whole.train();
+  const int seeker = whole.trainer(0).behavior() == "Seeker" ? 0 : 1, hider = 1 - seeker;
+  // the run exercised what a resume must carry: the seekers stopped while the hiders went on,
+  // and the lessons moved
+  ASSERT_GE(whole.trainer(seeker).step(), 2500);
+  ASSERT_GE(whole.trainer(hider).step(), 6000);
+  EXPECT_NE(log_.str().find("Curriculum level: back from"), std::string::npos) << log_.str();
+  // stopped at the second boundary (Hider 1002, Seeker 1302): in the hiders' second turn (702 to
+  // 1402), with snapshots in both pools, before the seekers stop, and in the middle of a row of
+  // metrics/episodes.csv (every 400 steps of either behavior, boundaries every 1000)
+  int64_t stopped_hider = 0, stopped_seeker = 0;
+  std::string stopped_team;
+  {
+    TrainingRun first(pursuit_self_play_config(), options("hs_split"));
+    first.train(/*stop_after_boundaries=*/2);
+    stopped_hider = first.trainer(hider).step();
+    stopped_seeker = first.trainer(seeker).step();
+    stopped_team = first.self_play().learning_team_name();
+    EXPECT_EQ(stopped_team, "Hider:0");
+    EXPECT_GT(stopped_hider, 700);
+    EXPECT_LT(stopped_hider, 1400);
+    EXPECT_FALSE(first.trainer(seeker).finished());
+  }
+  auto resume = options("hs_split");
+  resume.resume = true;
+  TrainingRun resumed(pursuit_self_play_config(), resume);
+  EXPECT_EQ(resumed.trainer(hider).step(), stopped_hider);
+  EXPECT_EQ(resumed.trainer(seeker).step(), stopped_seeker);
+  EXPECT_EQ(resumed.self_play().learning_team_name(), stopped_team);
+  resumed.train();
+
+  for (int b = 0; b < 2; ++b) {
+    const std::string behavior = whole.trainer(b).behavior();
+    EXPECT_EQ(whole.trainer(b).step(), resumed.trainer(b).step()) << behavior;
+    EXPECT_EQ(whole.trainer(b).updates(), resumed.trainer(b).updates()) << behavior;
+    auto expected = whole.trainer(b).network()->parameters();
+    auto actual = resumed.trainer(b).network()->parameters();
+    ASSERT_EQ(expected.size(), actual.size());
+    for (size_t i = 0; i < expected.size(); ++i)
+      EXPECT_TRUE(torch::equal(expected[i], actual[i])) << behavior << " parameter " << i;
+    EXPECT_EQ(whole.self_play().elo(b), resumed.self_play().elo(b)) << behavior;
+  }
+  EXPECT_EQ(whole.self_play().learning_team_name(), resumed.self_play().learning_team_name());
+  EXPECT_EQ(whole.parameters().serialize(), resumed.parameters().serialize());
+  for (const std::string file : {"metrics/Hider.csv", "metrics/Seeker.csv", "metrics/episodes.csv"})
+    EXPECT_EQ(metrics_without_time((dir_ / "hs_whole" / file).string()),
+              metrics_without_time((dir_ / "hs_split" / file).string()))
+        << file;
+}
+
 // LessonEchoEnv with a curriculum on x measured by its episode metrics: lesson A ends after two
 // episodes (any value), lesson B when an episode played in it reports x < 0.5, which only an
 // episode begun in lesson A (x = 0) can.
