@@ -70,6 +70,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   if (cs.resume && cs.force) throw std::invalid_argument("--resume and --force exclude each other");
   if (options_.num_envs > 0) es.num_envs = options_.num_envs;
   if (options_.seed >= 0) es.seed = options_.seed;
+  if (cs.resume) keep_the_runs_seed();
   if (options_.threads > 0) es.num_threads = options_.threads;
   for (const auto& [name, value] : options_.params) {
     bool controlled = config_.environment_parameters.count(name) > 0;
@@ -216,6 +217,29 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   write_file_atomically(folder_->config_path(), run_config_to_yaml(config_));
   folder_->write_status(status_);
   for (auto& t : trainers_) t->broadcast_parameters(0);
+}
+
+void TrainingRun::keep_the_runs_seed() {
+  // the boundaries reseed the env instances from the seed, so a resume under another seed plays
+  // other episodes from its first boundary on: without --seed, the run's own seed (its folder's
+  // configuration.yaml) holds, whatever the config file given now says
+  auto& es = config_.env_settings;
+  const RunFolder folder(config_.checkpoint_settings.results_dir, config_.checkpoint_settings.run_id);
+  std::error_code error;
+  if (!std::filesystem::exists(folder.config_path(), error)) return;  // resuming fails later
+  int64_t runs_seed = -1;
+  try {
+    runs_seed = load_run_config(folder.config_path()).env_settings.seed;
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot resume: the run's " + folder.config_path() + ": " + e.what());
+  }
+  if (options_.seed < 0) {
+    es.seed = runs_seed;
+  } else if (options_.seed != runs_seed) {
+    *log_ << "Note: resuming with --seed " << options_.seed << " where the run began with seed "
+          << runs_seed << ": from the first boundary on its episodes are not the run's own."
+          << std::endl;
+  }
 }
 
 void TrainingRun::begin_session(bool resumed) {

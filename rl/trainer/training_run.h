@@ -33,7 +33,7 @@ struct TrainOptions {
   bool resume = false, force = false;
   std::string initialize_from;    // run id (in the results dir) to take initial weights from
   int num_envs = 0;               // overrides env_settings.num_envs when > 0
-  int64_t seed = -1;              // overrides env_settings.seed when >= 0
+  int64_t seed = -1;              // overrides env_settings.seed (and a resumed run's) when >= 0
   int64_t max_steps = 0;          // overrides every behavior's max_steps when > 0
   Parameters params;              // env parameters over env_settings.params (not curriculum ones)
   int threads = 0;                // env and LibTorch threads (0 = number of cores)
@@ -101,6 +101,7 @@ class TrainingRun {
                          const std::vector<EpisodeStats>& episodes);
   // appends this start or resume to the status's sessions (when, from which steps, on which
   // machine and build); on resume, says so when the machine or build changed
+  void keep_the_runs_seed();  // --resume without --seed: the seed the run began with
   void begin_session(bool resumed);
   void save_checkpoint();
   void load_checkpoint(const std::string& path, bool weights_only);

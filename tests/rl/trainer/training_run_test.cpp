@@ -266,6 +266,44 @@ TEST_P(ResumeTest, DifferentSeedGivesDifferentWeights) {
   EXPECT_FALSE(all_equal);
 }
 
+// A run begun with --seed and resumed without it keeps its own seed, not the config file's (5):
+// the boundaries reseed the env instances from it. The control resumes with the file's seed given
+// on purpose, which parts from the run and says so.
+TEST_F(TrainingRunTest, AResumeWithoutSeedKeepsTheRunsOwnSeed) {
+  auto seeded = [&](const std::string& run_id, int64_t seed, bool resume) {
+    TrainOptions o = options(run_id);
+    o.seed = seed;
+    o.resume = resume;
+    return o;
+  };
+  TrainingRun whole(small_config("CartPole", "CartPole", 3000, 1000), seeded("whole", 9, false));
+  whole.train();
+  const auto expected = parameters(whole);
+  for (const std::string run_id : {"own_seed", "file_seed"}) {
+    TrainingRun first(small_config("CartPole", "CartPole", 3000, 1000), seeded(run_id, 9, false));
+    first.train(/*stop_after_boundaries=*/1);
+  }
+  log_.str("");
+  TrainingRun own(small_config("CartPole", "CartPole", 3000, 1000), seeded("own_seed", -1, true));
+  own.train();
+  const auto actual = parameters(own);
+  for (size_t i = 0; i < expected.size(); ++i) EXPECT_TRUE(torch::equal(expected[i], actual[i])) << i;
+  EXPECT_EQ(log_.str().find("Note: resuming with --seed"), std::string::npos) << log_.str();
+  std::ifstream stored(dir_ / "own_seed" / "configuration.yaml");
+  const std::string text((std::istreambuf_iterator<char>(stored)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("seed: 9"), std::string::npos) << text;  // the run's seed, stored again
+
+  TrainingRun other(small_config("CartPole", "CartPole", 3000, 1000), seeded("file_seed", 5, true));
+  other.train();
+  const auto parted = parameters(other);
+  bool all_equal = true;
+  for (size_t i = 0; i < expected.size(); ++i) all_equal &= torch::equal(expected[i], parted[i]);
+  EXPECT_FALSE(all_equal);
+  EXPECT_NE(log_.str().find("Note: resuming with --seed 5 where the run began with seed 9"),
+            std::string::npos)
+      << log_.str();
+}
+
 INSTANTIATE_TEST_SUITE_P(Envs, ResumeTest,
                          ::testing::Values(ResumeCase{"CartPole", "CartPole", false},
                                            ResumeCase{"Pendulum", "Pendulum", true},
