@@ -99,9 +99,9 @@ class TrainingRun {
   // curriculum: records finished episodes, advances lessons, resets envs when a lesson asks to
   void update_curriculum(const std::vector<FinishedEpisode>& finished,
                          const std::vector<EpisodeStats>& episodes);
+  void keep_the_runs_seed();  // --resume without --seed: the seed the run began with
   // appends this start or resume to the status's sessions (when, from which steps, on which
   // machine and build); on resume, says so when the machine or build changed
-  void keep_the_runs_seed();  // --resume without --seed: the seed the run began with
   void begin_session(bool resumed);
   void save_checkpoint();
   void load_checkpoint(const std::string& path, bool weights_only);
