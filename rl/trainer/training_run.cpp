@@ -49,6 +49,42 @@ void truncate_metrics(const std::string& path, int64_t step) {
   write_file_atomically(path, kept);
 }
 
+// sums and counts of named metrics (metric: sum, count) as a sub-archive: the names one per line,
+// the sums, and the counts after `leading`, a count of the caller's
+using MetricSums = std::map<std::string, std::pair<double, int>>;
+
+void write_metric_sums(torch::serialize::OutputArchive& archive, const std::string& key,
+                       const MetricSums& metrics, int64_t leading) {
+  torch::serialize::OutputArchive a;
+  std::string names;
+  std::vector<double> sums;
+  std::vector<int64_t> counts = {leading};
+  for (const auto& [name, sum_count] : metrics) {
+    names += name + "\n";
+    sums.push_back(sum_count.first);
+    counts.push_back(sum_count.second);
+  }
+  write_string(a, "names", names);
+  write_vector(a, "sums", sums);
+  write_vector(a, "counts", counts);
+  archive.write(key, a);
+}
+
+// false (and `metrics` and `leading` untouched) when the archive has no `key`: older checkpoints
+bool read_metric_sums(torch::serialize::InputArchive& archive, const std::string& key,
+                      MetricSums& metrics, int64_t& leading) {
+  torch::serialize::InputArchive a;
+  if (!archive.try_read(key, a)) return false;
+  std::istringstream names(read_string(a, "names"));
+  const auto sums = read_vector<double>(a, "sums");
+  const auto counts = read_vector<int64_t>(a, "counts");
+  leading = counts.at(0);
+  metrics.clear();
+  std::string name;
+  for (size_t i = 0; std::getline(names, name); ++i) metrics[name] = {sums.at(i), int(counts.at(i + 1))};
+  return true;
+}
+
 }  // namespace
 
 TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
@@ -558,6 +594,17 @@ void TrainingRun::save_checkpoint() {
     write_vector(ba, "summary_group_returns", summary_group_returns_[b]);
     write_vector(ba, "window.returns", update_window_[b].returns);
     write_vector(ba, "window.lengths", update_window_[b].lengths);
+    // what the next summary line and TensorBoard point average besides the returns
+    write_vector(ba, "summary.lengths", summary_lengths_[b]);
+    write_metric_sums(ba, "summary.metrics", summary_metrics_[b], 0);
+    const UpdateSums& u = summary_updates_[b];
+    write_vector(ba, "summary.updates",
+                 std::vector<double>{u.policy_loss, u.value_loss, u.baseline_loss, u.entropy,
+                                     u.learning_rate, u.epsilon, u.beta, double(u.count)});
+    const LastSummary& last = last_summary_[b];
+    write_vector(ba, "summary.last",
+                 std::vector<double>{double(last.any), last.reward, last.group_reward, last.length,
+                                     double(last.episodes)});
     archive.write("behavior." + trainers_[b]->behavior(), ba);
   }
   for (int i = 0; i < int(strategies_.strategies().size()); ++i) {
@@ -568,23 +615,9 @@ void TrainingRun::save_checkpoint() {
   }
   write_string(archive, "run.parameters", parameters_.serialize());
   write_vector(archive, "run.lesson_resets", std::vector<int64_t>{lesson_resets_});
-  {
-    // the env episodes since the last row of metrics/episodes.csv: a boundary need not fall on a
-    // summary, and a resumed run's next row counts them as the uninterrupted run's does
-    torch::serialize::OutputArchive window;
-    std::string names;  // one per line
-    std::vector<double> sums;
-    std::vector<int64_t> counts = {episode_window_count_};  // then one per metric
-    for (const auto& [name, sum_count] : episode_window_) {
-      names += name + "\n";
-      sums.push_back(sum_count.first);
-      counts.push_back(sum_count.second);
-    }
-    write_string(window, "names", names);
-    write_vector(window, "sums", sums);
-    write_vector(window, "counts", counts);
-    archive.write("run.episode_window", window);
-  }
+  // the env episodes since the last row of metrics/episodes.csv: a boundary need not fall on a
+  // summary, and a resumed run's next row counts them as the uninterrupted run's does
+  write_metric_sums(archive, "run.episode_window", episode_window_, episode_window_count_);
   {
     std::ostringstream rng;
     rng << parameter_rng_;
@@ -642,6 +675,18 @@ void TrainingRun::load_checkpoint(const std::string& path, bool weights_only) {
     summary_group_returns_[b] = read_vector<float>(ba, "summary_group_returns");
     update_window_[b].returns = read_vector<float>(ba, "window.returns");
     update_window_[b].lengths = read_vector<float>(ba, "window.lengths");
+    // older checkpoints: the next summary averages only what comes after the resume
+    summary_lengths_[b].clear();
+    summary_metrics_[b].clear();
+    summary_updates_[b] = UpdateSums{};
+    last_summary_[b] = LastSummary{};
+    int64_t unused = 0;
+    if (!read_metric_sums(ba, "summary.metrics", summary_metrics_[b], unused)) continue;
+    summary_lengths_[b] = read_vector<float>(ba, "summary.lengths");
+    const auto u = read_vector<double>(ba, "summary.updates");
+    summary_updates_[b] = {u.at(0), u.at(1), u.at(2), u.at(3), u.at(4), u.at(5), u.at(6), int(u.at(7))};
+    const auto last = read_vector<double>(ba, "summary.last");
+    last_summary_[b] = {last.at(0) != 0, last.at(1), last.at(2), last.at(3), int64_t(last.at(4))};
   }
   if (!weights_only) {
     if (self_play_->enabled()) {
@@ -664,18 +709,9 @@ void TrainingRun::load_checkpoint(const std::string& path, bool weights_only) {
     parameters_.deserialize(read_string(archive, "run.parameters"));
     apply_step_budgets();
     lesson_resets_ = read_vector<int64_t>(archive, "run.lesson_resets").at(0);
-    episode_window_.clear();
+    episode_window_.clear();  // older checkpoints: an empty window
     episode_window_count_ = 0;
-    torch::serialize::InputArchive window;
-    if (archive.try_read("run.episode_window", window)) {  // older checkpoints: an empty window
-      std::istringstream names(read_string(window, "names"));
-      const auto sums = read_vector<double>(window, "sums");
-      const auto counts = read_vector<int64_t>(window, "counts");
-      episode_window_count_ = counts.at(0);
-      std::string name;
-      for (size_t i = 0; std::getline(names, name); ++i)
-        episode_window_[name] = {sums.at(i), int(counts.at(i + 1))};
-    }
+    read_metric_sums(archive, "run.episode_window", episode_window_, episode_window_count_);
     std::istringstream rng(read_string(archive, "run.parameter_rng"));
     rng >> parameter_rng_;
     boundary_index_ = read_vector<int64_t>(archive, "run.boundary_index").at(0);

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -201,6 +202,16 @@ class TrainingRunTest : public ::testing::Test {
   }
 
   // metrics rows without the elapsed-time column
+  // every TensorBoard point of a run folder's behavior, from all its event files (one per start
+  // or resume): step -> tag -> value
+  static std::map<int64_t, std::map<std::string, float>> tensorboard_points(const fs::path& dir) {
+    std::map<int64_t, std::map<std::string, float>> points;
+    for (const auto& entry : fs::directory_iterator(dir))
+      for (const auto& event : tensorboard_reader::read_events(entry.path().string()))
+        if (!event.scalars.empty()) points[event.step] = event.scalars;
+    return points;
+  }
+
   static std::vector<std::string> metrics_without_time(const std::string& path) {
     std::ifstream in(path);
     std::vector<std::string> rows;
@@ -467,6 +478,18 @@ TEST_F(TrainingRunTest, SelfPlayWithTwoBehaviorsAndACurriculumResumesBitIdentica
     EXPECT_EQ(metrics_without_time((dir_ / "hs_whole" / file).string()),
               metrics_without_time((dir_ / "hs_split" / file).string()))
         << file;
+  // the summaries after the resume average what the uninterrupted run's do, the episodes and
+  // updates since the last summary before the checkpoint too (lengths, losses, env metrics)
+  for (const std::string behavior : {"Hider", "Seeker"}) {
+    const auto expected = tensorboard_points(dir_ / "hs_whole" / behavior);
+    const auto actual = tensorboard_points(dir_ / "hs_split" / behavior);
+    ASSERT_GT(expected.size(), 4u) << behavior;
+    ASSERT_EQ(expected.size(), actual.size()) << behavior;
+    for (auto e = expected.begin(), a = actual.begin(); e != expected.end(); ++e, ++a) {
+      EXPECT_EQ(e->first, a->first) << behavior;
+      EXPECT_EQ(e->second, a->second) << behavior << " step " << e->first;
+    }
+  }
 }
 
 // LessonEchoEnv with a curriculum on x measured by its episode metrics: lesson A ends after two
