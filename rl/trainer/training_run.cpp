@@ -81,7 +81,8 @@ bool read_metric_sums(torch::serialize::InputArchive& archive, const std::string
   leading = counts.at(0);
   metrics.clear();
   std::string name;
-  for (size_t i = 0; std::getline(names, name); ++i) metrics[name] = {sums.at(i), int(counts.at(i + 1))};
+  for (size_t i = 0; std::getline(names, name); ++i)
+    metrics[name] = {sums.at(i), int(counts.at(i + 1))};
   return true;
 }
 
@@ -260,7 +261,8 @@ void TrainingRun::keep_the_runs_seed() {
   // other episodes from its first boundary on: without --seed, the run's own seed (its folder's
   // configuration.yaml) holds, whatever the config file given now says
   auto& es = config_.env_settings;
-  const RunFolder folder(config_.checkpoint_settings.results_dir, config_.checkpoint_settings.run_id);
+  const auto& cs = config_.checkpoint_settings;
+  const RunFolder folder(cs.results_dir, cs.run_id);
   std::error_code error;
   if (!std::filesystem::exists(folder.config_path(), error)) return;  // resuming fails later
   int64_t runs_seed = -1;
@@ -681,12 +683,15 @@ void TrainingRun::load_checkpoint(const std::string& path, bool weights_only) {
     summary_updates_[b] = UpdateSums{};
     last_summary_[b] = LastSummary{};
     int64_t unused = 0;
-    if (!read_metric_sums(ba, "summary.metrics", summary_metrics_[b], unused)) continue;
-    summary_lengths_[b] = read_vector<float>(ba, "summary.lengths");
-    const auto u = read_vector<double>(ba, "summary.updates");
-    summary_updates_[b] = {u.at(0), u.at(1), u.at(2), u.at(3), u.at(4), u.at(5), u.at(6), int(u.at(7))};
-    const auto last = read_vector<double>(ba, "summary.last");
-    last_summary_[b] = {last.at(0) != 0, last.at(1), last.at(2), last.at(3), int64_t(last.at(4))};
+    if (read_metric_sums(ba, "summary.metrics", summary_metrics_[b], unused)) {
+      summary_lengths_[b] = read_vector<float>(ba, "summary.lengths");
+      const auto u = read_vector<double>(ba, "summary.updates");
+      summary_updates_[b] = {u.at(0), u.at(1), u.at(2), u.at(3),
+                             u.at(4), u.at(5), u.at(6), int(u.at(7))};
+      const auto last = read_vector<double>(ba, "summary.last");
+      last_summary_[b] = {last.at(0) != 0, last.at(1), last.at(2), last.at(3),
+                          int64_t(last.at(4))};
+    }
   }
   if (!weights_only) {
     if (self_play_->enabled()) {

@@ -201,7 +201,6 @@ class TrainingRunTest : public ::testing::Test {
     return out;
   }
 
-  // metrics rows without the elapsed-time column
   // every TensorBoard point of a run folder's behavior, from all its event files (one per start
   // or resume): step -> tag -> value
   static std::map<int64_t, std::map<std::string, float>> tensorboard_points(const fs::path& dir) {
@@ -212,6 +211,7 @@ class TrainingRunTest : public ::testing::Test {
     return points;
   }
 
+  // metrics rows without the elapsed-time column
   static std::vector<std::string> metrics_without_time(const std::string& path) {
     std::ifstream in(path);
     std::vector<std::string> rows;
@@ -298,10 +298,12 @@ TEST_F(TrainingRunTest, AResumeWithoutSeedKeepsTheRunsOwnSeed) {
   TrainingRun own(small_config("CartPole", "CartPole", 3000, 1000), seeded("own_seed", -1, true));
   own.train();
   const auto actual = parameters(own);
-  for (size_t i = 0; i < expected.size(); ++i) EXPECT_TRUE(torch::equal(expected[i], actual[i])) << i;
+  for (size_t i = 0; i < expected.size(); ++i)
+    EXPECT_TRUE(torch::equal(expected[i], actual[i])) << i;
   EXPECT_EQ(log_.str().find("Note: resuming with --seed"), std::string::npos) << log_.str();
   std::ifstream stored(dir_ / "own_seed" / "configuration.yaml");
-  const std::string text((std::istreambuf_iterator<char>(stored)), std::istreambuf_iterator<char>());
+  const std::string text((std::istreambuf_iterator<char>(stored)),
+                         std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("seed: 9"), std::string::npos) << text;  // the run's seed, stored again
 
   TrainingRun other(small_config("CartPole", "CartPole", 3000, 1000), seeded("file_seed", 5, true));
@@ -415,7 +417,8 @@ RunConfig pursuit_self_play_config() {
     << "                play_against_latest_model_ratio: 0.5}\n"
     << "  Seeker:\n    trainer_type: poca\n    max_steps: 2500\n"
     << "    self_play: {save_steps: 300, team_change: 1300, swap_steps: 110, window: 2,\n"
-    << "                play_against_latest_model_ratio: 0.5, turn_parameters: {prep_fraction: 0.1}}\n"
+    << "                play_against_latest_model_ratio: 0.5,\n"
+    << "                turn_parameters: {prep_fraction: 0.1}}\n"
     << "environment_parameters:\n  level:\n    curriculum:\n"
     << "      - name: one\n        value: 1\n"
     << "        completion_criteria: {measure: metric, metric: seen_fraction, threshold: 0.3,"
