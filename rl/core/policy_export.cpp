@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "rl/core/atomic_file.h"
 #include "rl/core/json.h"
 #include "rl/core/policy_network.h"
 #include "rl/core/running_normalizer.h"
@@ -100,10 +101,10 @@ void export_policy(const PolicyNetworkImpl& net, const RunningNormalizer* normal
   m.register_attribute("spec_json", c10::StringType::get(), behavior_spec_json(spec));
   m.register_attribute("format_version", c10::IntType::get(), int64_t(1));
   m.define(src.str());
-  const std::string tmp = path + ".tmp";
-  m.save(tmp);
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw std::runtime_error("cannot move " + tmp + " to " + path);
+  // serialized in memory first: LibTorch's file writer reports a failed write from a destructor
+  std::ostringstream bytes;
+  m.save(bytes);
+  write_file_atomically(path, bytes.str());
 }
 
 }  // namespace rlt

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rl/core/atomic_file.h"
 #include "rl/core/json.h"
 
 namespace fs = std::filesystem;
@@ -31,19 +32,6 @@ void RunFolder::create(bool force) const {
   }
   fs::create_directories(path_ + "/checkpoints");
   fs::create_directories(path_ + "/metrics");
-}
-
-void write_file_atomically(const std::string& path, const std::string& contents) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write " + tmp);
-    out << contents;
-    out.flush();
-    if (!out) throw std::runtime_error("cannot write " + tmp);
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw std::runtime_error("cannot move " + tmp + " to " + path);
 }
 
 void RunFolder::write_status(const TrainingStatus& s) const {

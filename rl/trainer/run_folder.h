@@ -73,8 +73,4 @@ class RunFolder {
   std::string path_, run_id_;
 };
 
-// Writes `contents` to `path` through a temporary file and a rename, so that readers see either the
-// old file or the new one, never a partial file.
-void write_file_atomically(const std::string& path, const std::string& contents);
-
 }  // namespace rlt

@@ -17,6 +17,7 @@
 #include "rl/config/config_parser.h"
 #include "rl/core/allocator_tuning.h"
 #include "rl/core/archive_io.h"
+#include "rl/core/atomic_file.h"
 #include "rl/core/compute_threads.h"
 #include "rl/core/json.h"
 #include "rl/core/machine_info.h"
@@ -636,9 +637,12 @@ void TrainingRun::save_checkpoint() {
   entry.elapsed_seconds = elapsed();
   for (auto& t : trainers_) entry.steps[t->behavior()] = t->step();
   const std::string path = folder_->file(entry.file);
-  archive.save_to(path + ".tmp");
-  if (std::rename((path + ".tmp").c_str(), path.c_str()) != 0)
-    throw std::runtime_error("cannot move " + path + ".tmp to " + path);
+  // serialized in memory first: LibTorch's file writer reports a failed write (a full disk) from
+  // a destructor, which ends the process; our own write reports it as an error, and the run's
+  // earlier checkpoints stay as they were
+  std::ostringstream bytes;
+  archive.save_to(bytes);
+  write_file_atomically(path, bytes.str());
   status_.checkpoints.push_back(entry);
   status_.lessons = parameters_.lessons();
   status_.strategies = strategies_.emergences();

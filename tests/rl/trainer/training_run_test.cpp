@@ -2,8 +2,10 @@
 #include "rl/trainer/training_run.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -651,6 +653,61 @@ TEST_F(TrainingRunTest, KeepsOnlyTheNewestCheckpoints) {
   int files = 0;
   for (auto& e : fs::directory_iterator(dir_ / "keep" / "checkpoints")) files += e.path().extension() == ".pt";
   EXPECT_EQ(files, 3);
+}
+
+// Files written while it lives may grow to `bytes` at most (as on a nearly full disk: a write past
+// the limit fails with EFBIG instead of ending the process).
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    getrlimit(RLIMIT_FSIZE, &saved_);
+    old_handler_ = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit limit = saved_;
+    limit.rlim_cur = bytes;
+    setrlimit(RLIMIT_FSIZE, &limit);
+  }
+  ~FileSizeLimit() {
+    setrlimit(RLIMIT_FSIZE, &saved_);
+    std::signal(SIGXFSZ, old_handler_);
+  }
+
+ private:
+  rlimit saved_{};
+  void (*old_handler_)(int) = nullptr;
+};
+
+TEST_F(TrainingRunTest, ACheckpointThatCannotBeWrittenStopsTrainingWithAnErrorAndLosesNothing) {
+  {
+    TrainingRun first(small_config("CartPole", "CartPole", 3000, 1000), options("full"));
+    first.train(/*stop_after_boundaries=*/1);
+  }
+  const fs::path checkpoints = dir_ / "full" / "checkpoints";
+  const auto first_size = fs::file_size(checkpoints / "checkpoint-1.pt");
+  std::ifstream in(checkpoints / "checkpoint-1.pt", std::ios::binary);
+  const std::string first_bytes((std::istreambuf_iterator<char>(in)), {});
+  auto opt = options("full");
+  opt.resume = true;
+  {
+    TrainingRun resumed(small_config("CartPole", "CartPole", 3000, 1000), opt);
+    FileSizeLimit limit(first_size / 2);
+    try {
+      resumed.train();
+      ADD_FAILURE() << "training went on without its checkpoint";
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("cannot write"), std::string::npos) << what;
+      EXPECT_NE(what.find("checkpoint-2.pt"), std::string::npos) << what;
+    }
+  }
+  // the first checkpoint is as it was, no partial file is left, and the run resumes from it
+  std::ifstream again(checkpoints / "checkpoint-1.pt", std::ios::binary);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), {}), first_bytes);
+  EXPECT_FALSE(fs::exists(checkpoints / "checkpoint-2.pt.tmp"));
+  EXPECT_FALSE(fs::exists(checkpoints / "checkpoint-2.pt"));
+  ASSERT_EQ(RunFolder(dir_.string(), "full").read_status().checkpoints.size(), 1u);
+  TrainingRun finished(small_config("CartPole", "CartPole", 3000, 1000), opt);
+  finished.train();
+  EXPECT_GE(finished.trainer(0).step(), 3000);
 }
 
 TEST_F(TrainingRunTest, ExistingRunWithoutResumeOrForceTouchesNothing) {
