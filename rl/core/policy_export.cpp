@@ -3,7 +3,6 @@
 #include <torch/script.h>
 
 #include <cctype>
-#include <cstdio>
 #include <sstream>
 
 #include "rl/core/atomic_file.h"
