@@ -52,8 +52,8 @@ Options:
   --nproc N              train with N data-parallel ranks on this machine (see below)
   --dist-timeout S       seconds a rank may stay silent before the others stop (default 60)
 An existing run id without --resume or --force is an error that touches nothing. A checkpoint
-that cannot be written (a full disk) stops training with an error; --resume goes on from the
-newest complete one.
+or metrics row that cannot be written (a full disk) stops training with an error and leaves no
+partial file or row; --resume goes on from the newest complete checkpoint.
 
 Distributed training (LibTorch's c10d with Gloo): every rank runs its own env_settings.num_envs
 environments and a replica of each learner; gradients are averaged over the ranks, so every rank

@@ -32,4 +32,25 @@ void write_file_atomically(const std::string& path, const std::string& contents)
   if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("cannot move " + tmp + " to " + path);
 }
 
+void append_to_file(const std::string& path, const std::string& text) {
+  std::error_code size_error;
+  const auto size_before = fs::exists(path) ? fs::file_size(path, size_error) : 0;
+  errno = 0;
+  std::ofstream out(path, std::ios::binary | std::ios::app);
+  auto fail = [&] {
+    const std::string reason = std::strerror(errno ? errno : EIO);
+    out.close();
+    std::error_code ignored;
+    if (!size_error && fs::exists(path)) fs::resize_file(path, size_before, ignored);
+    throw std::runtime_error("cannot append to " + path + ": " + reason + " (" + path +
+                             " was left as it was)");
+  };
+  if (!out) fail();
+  out.write(text.data(), std::streamsize(text.size()));
+  out.flush();
+  if (!out) fail();
+  out.close();
+  if (!out) fail();
+}
+
 }  // namespace rlt

@@ -37,15 +37,28 @@ const char* kMetricsHeader =
     "step,elapsed_s,episodes,mean_return,std_return,mean_length,policy_loss,value_loss,"
     "baseline_loss,entropy,learning_rate,epsilon,beta,elo\n";
 
-// keeps the rows of a metrics file whose step is <= `step` (after a resume)
+// keeps the rows of a metrics file whose step is <= `step` (after a resume). A last row without
+// its newline is the start of a write that was cut off (a kill, a full disk) and goes too: its
+// first field may be a prefix of the step it was meant to hold.
 void truncate_metrics(const std::string& path, int64_t step) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) return;
+  std::string contents((std::istreambuf_iterator<char>(in)), {});
+  if (!contents.empty() && contents.back() != '\n') contents.erase(contents.rfind('\n') + 1);
+  std::istringstream lines(contents);
   std::string line, kept;
-  bool header = true;
-  while (std::getline(in, line)) {
-    if (header || std::stoll(line.substr(0, line.find(','))) <= step) kept += line + "\n";
-    header = false;
+  for (int64_t number = 1; std::getline(lines, line); ++number) {
+    if (number == 1) {  // the header
+      kept += line + "\n";
+      continue;
+    }
+    const std::string first = line.substr(0, line.find(','));
+    char* end = nullptr;
+    const long long row_step = std::strtoll(first.c_str(), &end, 10);
+    if (first.empty() || *end != '\0')
+      throw std::runtime_error(path + ":" + std::to_string(number) + ": expected a step, got '" +
+                               first + "' (the run was not resumed; the file was left as it was)");
+    if (row_step <= step) kept += line + "\n";
   }
   write_file_atomically(path, kept);
 }
@@ -745,13 +758,14 @@ void TrainingRun::log_update(int b, const UpdateStats& s) {
   ++sums.count;
   auto& w = update_window_[b];
   if (folder_) {
-    std::ofstream out(folder_->metrics_path(trainers_[b]->behavior()), std::ios::app);
+    std::ostringstream out;
     out << trainers_[b]->step() << ',' << elapsed() << ',' << w.returns.size() << ','
         << mean_of(w.returns) << ',' << std_of(w.returns) << ',' << mean_of(w.lengths) << ','
         << s.policy_loss << ',' << s.value_loss << ',' << s.baseline_loss << ',' << s.entropy << ','
         << s.learning_rate << ',' << s.epsilon << ',' << s.beta << ',';
     if (trainers_[b]->config().self_play) out << self_play_->elo(b);  // else empty
     out << '\n';
+    append_to_file(folder_->metrics_path(trainers_[b]->behavior()), out.str());
   }
   w = EpisodeStats{};
 }
@@ -964,7 +978,7 @@ void TrainingRun::log_episode_metrics() {
   if (!folder_ || episode_window_count_ == 0) return;
   const std::string path = folder_->episode_metrics_path();
   const bool fresh = !fs::exists(path) || fs::file_size(path) == 0;
-  std::ofstream out(path, std::ios::app);
+  std::ostringstream out;
   if (fresh) {
     out << "total_steps,elapsed_s,episodes";
     for (const auto& t : trainers_) out << ',' << t->behavior() << "_step";
@@ -979,6 +993,7 @@ void TrainingRun::log_episode_metrics() {
   for (const auto& [name, sum_count] : episode_window_) out << ',' << sum_count.first / sum_count.second;
   for (int i = 0; i < int(strategies_.strategies().size()); ++i) out << ',' << strategies_.rate(i);
   out << '\n';
+  append_to_file(path, out.str());
   episode_window_.clear();
   episode_window_count_ = 0;
 }

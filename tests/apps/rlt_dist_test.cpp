@@ -73,8 +73,12 @@ class RltDistTest : public testing::Test {
     return r;
   }
 
+  // the mean return of 20 episodes of the policy's most likely actions: what the run learned. The
+  // sampled actions' return moves with the last bits of the run: on an AMD EPYC (Zen 3) the
+  // two-rank run's sampled policy scored 455.55 where its most likely actions held the pole for
+  // all 500 steps in 20 episodes of 20.
   double eval_return(const std::string& run) {
-    Result r = rlt("eval '" + (root_ / run).string() + "' --episodes 20 --json");
+    Result r = rlt("eval '" + (root_ / run).string() + "' --episodes 20 --deterministic --json");
     EXPECT_EQ(r.exit_code, 0) << r.err;
     std::smatch m;
     EXPECT_TRUE(std::regex_search(r.out, m, std::regex("\"mean_return\":([-0-9.e+]+)"))) << r.out;

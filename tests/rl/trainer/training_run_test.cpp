@@ -710,6 +710,82 @@ TEST_F(TrainingRunTest, ACheckpointThatCannotBeWrittenStopsTrainingWithAnErrorAn
   EXPECT_GE(finished.trainer(0).step(), 3000);
 }
 
+std::string file_contents(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+TEST_F(TrainingRunTest, AMetricsRowThatCannotBeWrittenStopsTrainingWithAnErrorAndLosesNothing) {
+  {
+    TrainingRun first(small_config("CartPole", "CartPole", 3000, 1000), options("rows"));
+    first.train(/*stop_after_boundaries=*/1);
+  }
+  const fs::path metrics = dir_ / "rows" / "metrics" / "CartPole.csv";
+  auto opt = options("rows");
+  opt.resume = true;
+  {
+    TrainingRun resumed(small_config("CartPole", "CartPole", 3000, 1000), opt);
+    const std::string before = file_contents(metrics);
+    ASSERT_FALSE(before.empty());
+    {
+      // room for a few bytes, not for the next row (about 100): its write is cut off part way
+      FileSizeLimit limit(fs::file_size(metrics) + 20);
+      try {
+        resumed.train();
+        ADD_FAILURE() << "training went on without its metrics row";
+      } catch (const std::runtime_error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("cannot append to"), std::string::npos) << what;
+        EXPECT_NE(what.find("CartPole.csv"), std::string::npos) << what;
+      }
+    }
+    // no partial row is left behind
+    EXPECT_EQ(file_contents(metrics), before);
+  }
+  TrainingRun finished(small_config("CartPole", "CartPole", 3000, 1000), opt);
+  finished.train();
+  EXPECT_GE(finished.trainer(0).step(), 3000);
+}
+
+TEST_F(TrainingRunTest, AResumeDropsAMetricsRowWhoseWriteWasCutOff) {
+  {
+    TrainingRun first(small_config("CartPole", "CartPole", 3000, 1000), options("cut"));
+    first.train(/*stop_after_boundaries=*/1);
+  }
+  const fs::path metrics = dir_ / "cut" / "metrics" / "CartPole.csv";
+  const std::string whole = file_contents(metrics);
+  // as after a kill in the middle of writing the row of step 1024: its first two characters
+  { std::ofstream(metrics, std::ios::app) << "10"; }
+  auto opt = options("cut");
+  opt.resume = true;
+  { TrainingRun(small_config("CartPole", "CartPole", 3000, 1000), opt).train(1); }
+  const std::string after = file_contents(metrics);
+  ASSERT_EQ(after.substr(0, whole.size()), whole);
+  std::istringstream lines(after);
+  std::string line;
+  std::getline(lines, line);
+  const auto fields = std::count(line.begin(), line.end(), ',');
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), fields) << "row " << rows + 2 << ": " << line;
+    ++rows;
+  }
+  EXPECT_GT(rows, int(std::count(whole.begin(), whole.end(), '\n')) - 1);  // rows were added
+
+  // a row whose step is not a number is an error naming the file and line, and nothing changes
+  { std::ofstream(metrics, std::ios::app) << "x1,2,3\n"; }
+  const std::string garbled = file_contents(metrics);
+  try {
+    TrainingRun again(small_config("CartPole", "CartPole", 3000, 1000), opt);
+    ADD_FAILURE() << "resumed over a garbled metrics file";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("CartPole.csv:"), std::string::npos) << what;
+    EXPECT_NE(what.find("expected a step, got 'x1'"), std::string::npos) << what;
+  }
+  EXPECT_EQ(file_contents(metrics), garbled);
+}
+
 TEST_F(TrainingRunTest, ExistingRunWithoutResumeOrForceTouchesNothing) {
   { TrainingRun(small_config("CartPole", "CartPole", 600, 1000), options("exists")).train(); }
   const auto status_file = dir_ / "exists" / "training_status.json";
