@@ -29,6 +29,12 @@ namespace fs = std::filesystem;
 namespace rlt {
 namespace {
 
+// the bytes of a file (empty when it cannot be read)
+std::string file_contents(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
 // An env that counts decisions and emits a bad number at a chosen global decision.
 class BadNumberEnv : public Env {
  public:
@@ -303,9 +309,7 @@ TEST_F(TrainingRunTest, AResumeWithoutSeedKeepsTheRunsOwnSeed) {
   for (size_t i = 0; i < expected.size(); ++i)
     EXPECT_TRUE(torch::equal(expected[i], actual[i])) << i;
   EXPECT_EQ(log_.str().find("Note: resuming with --seed"), std::string::npos) << log_.str();
-  std::ifstream stored(dir_ / "own_seed" / "configuration.yaml");
-  const std::string text((std::istreambuf_iterator<char>(stored)),
-                         std::istreambuf_iterator<char>());
+  const std::string text = file_contents(dir_ / "own_seed" / "configuration.yaml");
   EXPECT_NE(text.find("seed: 9"), std::string::npos) << text;  // the run's seed, stored again
 
   TrainingRun other(small_config("CartPole", "CartPole", 3000, 1000), seeded("file_seed", 5, true));
@@ -683,8 +687,7 @@ TEST_F(TrainingRunTest, ACheckpointThatCannotBeWrittenStopsTrainingWithAnErrorAn
   }
   const fs::path checkpoints = dir_ / "full" / "checkpoints";
   const auto first_size = fs::file_size(checkpoints / "checkpoint-1.pt");
-  std::ifstream in(checkpoints / "checkpoint-1.pt", std::ios::binary);
-  const std::string first_bytes((std::istreambuf_iterator<char>(in)), {});
+  const std::string first_bytes = file_contents(checkpoints / "checkpoint-1.pt");
   auto opt = options("full");
   opt.resume = true;
   {
@@ -700,19 +703,13 @@ TEST_F(TrainingRunTest, ACheckpointThatCannotBeWrittenStopsTrainingWithAnErrorAn
     }
   }
   // the first checkpoint is as it was, no partial file is left, and the run resumes from it
-  std::ifstream again(checkpoints / "checkpoint-1.pt", std::ios::binary);
-  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), {}), first_bytes);
+  EXPECT_EQ(file_contents(checkpoints / "checkpoint-1.pt"), first_bytes);
   EXPECT_FALSE(fs::exists(checkpoints / "checkpoint-2.pt.tmp"));
   EXPECT_FALSE(fs::exists(checkpoints / "checkpoint-2.pt"));
   ASSERT_EQ(RunFolder(dir_.string(), "full").read_status().checkpoints.size(), 1u);
   TrainingRun finished(small_config("CartPole", "CartPole", 3000, 1000), opt);
   finished.train();
   EXPECT_GE(finished.trainer(0).step(), 3000);
-}
-
-std::string file_contents(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
 TEST_F(TrainingRunTest, AMetricsRowThatCannotBeWrittenStopsTrainingWithAnErrorAndLosesNothing) {
@@ -790,12 +787,10 @@ TEST_F(TrainingRunTest, ExistingRunWithoutResumeOrForceTouchesNothing) {
   { TrainingRun(small_config("CartPole", "CartPole", 600, 1000), options("exists")).train(); }
   const auto status_file = dir_ / "exists" / "training_status.json";
   const auto before = fs::last_write_time(status_file);
-  std::ifstream in(status_file);
-  std::string content((std::istreambuf_iterator<char>(in)), {});
+  const std::string content = file_contents(status_file);
   EXPECT_THROW(TrainingRun(small_config("CartPole", "CartPole", 600, 1000), options("exists")), std::runtime_error);
   EXPECT_EQ(fs::last_write_time(status_file), before);
-  std::ifstream again(status_file);
-  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), {}), content);
+  EXPECT_EQ(file_contents(status_file), content);
   // --force starts over
   auto opt = options("exists");
   opt.force = true;
