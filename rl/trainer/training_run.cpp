@@ -172,6 +172,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
           given != es.params.end() ? given->second : env_->spec().default_parameters.at(key);
     }
   }
+  check_every_lesson();
   env_->set_parameters(turn_fallback_);
   env_->set_parameters(parameters_.sample(parameter_rng_));
   env_->reset();
@@ -268,6 +269,25 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   write_file_atomically(folder_->config_path(), run_config_to_yaml(config_));
   folder_->write_status(status_);
   for (auto& t : trainers_) t->broadcast_parameters(0);
+}
+
+void TrainingRun::check_every_lesson() {
+  for (const auto& [name, parameter] : config_.environment_parameters) {
+    for (int lesson = 0; lesson < int(parameter.curriculum.size()); ++lesson) {
+      EnvironmentParameterManager at_lesson = parameters_;
+      at_lesson.follow({{name, lesson}});
+      try {
+        env_->set_parameters(turn_fallback_);
+        // one draw of the lesson's samplers, from an engine of its own (the run's stays untouched)
+        env_->set_parameters(at_lesson.sample(uint64_t(lesson)));
+        env_->reset();
+      } catch (const std::exception& e) {
+        throw std::invalid_argument(config_.source_file + ": environment_parameters." + name +
+                                    ", lesson '" + parameter.curriculum[lesson].name + "': " +
+                                    e.what());
+      }
+    }
+  }
 }
 
 void TrainingRun::keep_the_runs_seed() {

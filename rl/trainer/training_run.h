@@ -100,6 +100,10 @@ class TrainingRun {
   void update_curriculum(const std::vector<FinishedEpisode>& finished,
                          const std::vector<EpisodeStats>& episodes);
   void keep_the_runs_seed();  // --resume without --seed: the seed the run began with
+  // Resets the envs with each lesson of each curriculum (the other curricula at their first), so
+  // that a value the env rejects is an error naming its lesson before anything is written, not
+  // when the lesson is reached hours in. Leaves the envs to be set and reset again.
+  void check_every_lesson();
   // appends this start or resume to the status's sessions (when, from which steps, on which
   // machine and build); on resume, says so when the machine or build changed
   void begin_session(bool resumed);

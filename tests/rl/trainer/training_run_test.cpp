@@ -99,6 +99,9 @@ class LessonEchoEnv : public Env {
   const EnvSpec& spec() const override { return spec_; }
   void seed(uint64_t s) override { length_ = 3 + int(s % 3); }
   void reset(StepView& out) override {
+    if (parameter("x") > 10.f)
+      throw std::invalid_argument("LessonEchoEnv: x must be at most 10, got " +
+                                  std::to_string(int(parameter("x"))));
     t_ = 0;
     out[0].step_type(0) = StepType::kFirst;
     out[0].agent_id(0) = 0;
@@ -506,7 +509,8 @@ TEST_F(TrainingRunTest, SelfPlayWithTwoBehaviorsAndACurriculumResumesBitIdentica
 // episode begun in lesson A (x = 0) can.
 RunConfig echo_curriculum_config(const std::string& second_metric,
                                   const std::string& second_extra = "",
-                                  const std::string& second_threshold = "0") {
+                                  const std::string& second_threshold = "0",
+                                  const std::string& last_value = "2") {
   std::ostringstream y;
   y << "behaviors:\n  Echo:\n    trainer_type: ppo\n"
     << "    hyperparameters: {batch_size: 16, buffer_size: 64, num_epoch: 1}\n"
@@ -520,7 +524,7 @@ RunConfig echo_curriculum_config(const std::string& second_metric,
     << "        completion_criteria: {measure: metric, metric: " << second_metric
     << ", threshold: " << second_threshold
     << ", min_lesson_length: 1, signal_smoothing: false" << second_extra << "}\n"
-    << "      - name: C\n        value: 2\n"
+    << "      - name: C\n        value: " << last_value << "\n"
     << "env_settings: {env_id: LessonEchoEnv, num_envs: 3, seed: 0}\n";
   return load_run_config_from_string(y.str(), "echo.yaml");
 }
@@ -556,6 +560,20 @@ TEST_F(TrainingRunTest, ACollapsedLessonFallsBackAndTheLogSaysSo) {
             std::string::npos)
       << log_.str();
   EXPECT_EQ(run.parameters().furthest_lessons().at("x"), 1);
+}
+
+TEST_F(TrainingRunTest, ALessonValueTheEnvRejectsIsAnErrorBeforeWriting) {
+  // lesson C, reached only when A and B have ended, sets x = 99, which LessonEchoEnv rejects
+  try {
+    TrainingRun run(echo_curriculum_config("value", "", "0", "99"), options("echo_bad_lesson"));
+    FAIL() << "a lesson value the env rejects must be an error before training";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("echo.yaml: environment_parameters.x, lesson 'C': "
+                                         "LessonEchoEnv: x must be at most 10, got 99"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "echo_bad_lesson"));
 }
 
 TEST_F(TrainingRunTest, UnknownCurriculumMetricIsAnErrorBeforeWriting) {
