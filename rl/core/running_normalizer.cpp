@@ -8,7 +8,8 @@
 
 namespace rlt {
 
-RunningNormalizer::RunningNormalizer(int size) : mean_(size, 0.0), var_(size, 1.0) {}
+RunningNormalizer::RunningNormalizer(int size)
+    : column_count_(size, 0.0), mean_(size, 0.0), var_(size, 1.0) {}
 
 void RunningNormalizer::update(const float* data, int64_t rows) {
   if (rows <= 0) return;
@@ -46,16 +47,27 @@ void RunningNormalizer::merge(double rows, const std::vector<double>& bmean,
   const int n = size();
   const double total = count_ + rows;
   for (int i = 0; i < n; ++i) {
-    if (!passthrough_.empty() && passthrough_[i]) continue;
-    if (count_ == 0) {
-      mean_[i] = bmean[i];
-      var_[i] = bvar[i];
+    if (!passthrough_.empty() && passthrough_[i]) {
+      column_count_[i] = total;
       continue;
     }
+    const double count = column_count_[i];
     const double delta = bmean[i] - mean_[i];
-    const double m2 = var_[i] * count_ + bvar[i] * double(rows) + delta * delta * count_ * rows / total;
-    mean_[i] += delta * rows / total;
-    var_[i] = m2 / total;
+    // one value so far, held by at least as many observations as the batch (a shorter history
+    // weighs less than the batch and is merged as usual, so small first chunks stay exact)
+    const bool constant_so_far = var_[i] <= kConstantVariance && count >= rows;
+    const bool varies_now = bvar[i] > kConstantVariance || delta * delta > kConstantVariance;
+    if (count == 0 || (constant_so_far && varies_now)) {  // its statistics begin here
+      mean_[i] = bmean[i];
+      var_[i] = bvar[i];
+      column_count_[i] = rows;
+      continue;
+    }
+    const double sum = count + rows;
+    const double m2 = var_[i] * count + bvar[i] * double(rows) + delta * delta * count * rows / sum;
+    mean_[i] += delta * rows / sum;
+    var_[i] = m2 / sum;
+    column_count_[i] = sum;
   }
   count_ = total;
 }
@@ -92,6 +104,11 @@ std::string RunningNormalizer::serialize() const {
     std::snprintf(buf, sizeof buf, " %a", var_[i]);
     os << buf;
   }
+  // the columns' own counts follow (a state written before they existed ends here)
+  for (int i = 0; i < size(); ++i) {
+    std::snprintf(buf, sizeof buf, " %a", column_count_[i]);
+    os << buf;
+  }
   return os.str();
 }
 
@@ -110,6 +127,13 @@ RunningNormalizer RunningNormalizer::deserialize(const std::string& text) {
     out.mean_[i] = next();
     out.var_[i] = next();
   }
+  // Written before the columns had counts of their own: every column held them all.
+  if (n == 0 || !(is >> tok)) {
+    std::fill(out.column_count_.begin(), out.column_count_.end(), out.count_);
+    return out;
+  }
+  out.column_count_[0] = std::strtod(tok.c_str(), nullptr);
+  for (int i = 1; i < n; ++i) out.column_count_[i] = next();
   return out;
 }
 

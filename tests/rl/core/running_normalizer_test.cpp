@@ -1,5 +1,6 @@
 // RunningNormalizer: updates in chunks of any size give the mean and population variance of all the
-// data at once (double-precision reference), normalize clamps at +-5, serialization is exact.
+// data at once (double-precision reference), normalize clamps at +-5, serialization is exact, and a
+// column's statistics begin when it first varies.
 #include "rl/core/running_normalizer.h"
 
 #include <gtest/gtest.h>
@@ -127,6 +128,7 @@ TEST(RunningNormalizerTest, SerializeRoundTripIsExact) {
   for (int i = 0; i < kSize; ++i) {
     EXPECT_EQ(back.mean()[i], norm.mean()[i]) << "column " << i;
     EXPECT_EQ(back.variance()[i], norm.variance()[i]) << "column " << i;
+    EXPECT_EQ(back.column_count(i), norm.column_count(i)) << "column " << i;
   }
   EXPECT_EQ(back.serialize(), text);
   // a restored normalizer keeps folding data in exactly as the original does
@@ -136,10 +138,67 @@ TEST(RunningNormalizerTest, SerializeRoundTripIsExact) {
   EXPECT_EQ(back.serialize(), norm.serialize());
 }
 
+// A column that held one value for a long time (a feature a curriculum switches on late) takes
+// the scale of its values from the batch in which it first varies, not a variance diluted by the
+// constant history: alternating +-1 normalizes to +-1, not to the clip at 5.
+TEST(RunningNormalizerTest, AColumnThatFirstVariesLateGetsTheScaleOfItsNewValues) {
+  std::mt19937_64 rng(11);
+  RunningNormalizer norm(kSize);
+  auto history = random_rows(10000, rng);
+  for (int r = 0; r < 10000; ++r) history[r * kSize + 1] = 0.f;  // column 1: 0 throughout
+  norm.update(history.data(), 10000);
+  EXPECT_EQ(norm.variance()[1], 0.0);
+  std::vector<float> later = random_rows(100, rng);
+  for (int r = 0; r < 100; ++r) later[r * kSize + 1] = r % 2 ? 1.f : -1.f;
+  norm.update(later.data(), 100);
+  EXPECT_EQ(norm.count(), 10100.0);
+  EXPECT_EQ(norm.column_count(0), 10100.0);
+  EXPECT_EQ(norm.column_count(1), 100.0);
+  EXPECT_NEAR(norm.mean()[1], 0.0, 1e-12);
+  EXPECT_NEAR(norm.variance()[1], 1.0, 1e-12);
+  std::vector<float> row{0.f, 1.f, 3.f};
+  norm.normalize(row.data(), 1);
+  EXPECT_NEAR(row[1], 1.f, 1e-6f);
+  // from there on it folds in as any column does
+  std::vector<float> more = random_rows(100, rng);
+  for (int r = 0; r < 100; ++r) more[r * kSize + 1] = 0.f;
+  norm.update(more.data(), 100);
+  EXPECT_EQ(norm.column_count(1), 200.0);
+  EXPECT_NEAR(norm.variance()[1], 0.5, 1e-12);
+}
+
+// A column that moves from one constant to another (a flag that is 0 at one level and 1 at the
+// next) normalizes the new constant to 0, as it did the old one.
+TEST(RunningNormalizerTest, AColumnThatMovesToAnotherConstantNormalizesItToZero) {
+  RunningNormalizer norm(1);
+  const std::vector<float> zeros(500, 0.f), ones(50, 1.f);
+  norm.update(zeros.data(), 500);
+  norm.update(ones.data(), 50);
+  EXPECT_EQ(norm.mean()[0], 1.0);
+  EXPECT_EQ(norm.variance()[0], 0.0);
+  float x = 1.f;
+  norm.normalize(&x, 1);
+  EXPECT_EQ(x, 0.f);
+}
+
+// A state written before the columns had counts of their own loads with every column holding
+// all the observations.
+TEST(RunningNormalizerTest, AStateWithoutColumnCountsLoads) {
+  const RunningNormalizer old = RunningNormalizer::deserialize("2 0x1.4p+3 0x1p+0 0x1p+1 0x0p+0 0x0p+0");
+  EXPECT_EQ(old.count(), 10.0);
+  EXPECT_EQ(old.column_count(0), 10.0);
+  EXPECT_EQ(old.column_count(1), 10.0);
+  EXPECT_EQ(old.mean()[0], 1.0);
+  EXPECT_EQ(old.variance()[0], 2.0);
+}
+
 TEST(RunningNormalizerTest, DeserializeRejectsCorruptText) {
   EXPECT_THROW(RunningNormalizer::deserialize(""), std::runtime_error);
   EXPECT_THROW(RunningNormalizer::deserialize("2 0x1p+3 0x0p+0"), std::runtime_error);
   EXPECT_THROW(RunningNormalizer::deserialize("-1"), std::runtime_error);
+  // the column counts are all there or not at all
+  EXPECT_THROW(RunningNormalizer::deserialize("2 0x1p+3 0x0p+0 0x1p+0 0x0p+0 0x1p+0 0x1p+3"),
+               std::runtime_error);
 }
 
 }  // namespace
