@@ -28,6 +28,9 @@ class RunningNormalizer {
 
   int size() const { return static_cast<int>(mean_.size()); }
   double count() const { return count_; }
+  // The observations column i's statistics hold: count() for a column that varied from its first
+  // batch on, fewer for one that started over when it first varied (see the header comment).
+  double column_count(int i) const { return column_count_[i]; }
   const std::vector<double>& mean() const { return mean_; }      // [size]
   const std::vector<double>& variance() const { return var_; }   // [size]
 
@@ -38,9 +41,6 @@ class RunningNormalizer {
 
   // Folds `rows` observations (row-major [rows, size]) into the statistics.
   void update(const float* data, int64_t rows);
-  // The observations column i's statistics hold: count() for a column that varied from its first
-  // batch on, fewer for one that started over when it first varied (see the header comment).
-  double column_count(int i) const { return column_count_[i]; }
   // Folds in the statistics of `rows` observations seen elsewhere (their mean and population
   // variance, [size] each): what update does after computing them.
   void merge(double rows, const std::vector<double>& mean, const std::vector<double>& variance);
@@ -57,15 +57,15 @@ class RunningNormalizer {
 
   static constexpr float kClip = 5.f;
   static constexpr double kEps = 1e-8;
-  // A column whose variance is at most this has held one value so far (floats summed in double
-  // leave rounding of about 1e-30 on a constant).
+  // A column whose variance is at most this has held one value so far (a constant's batch mean
+  // and variance come out exact in double; the margin only keeps a test on 0 off rounding).
   static constexpr double kConstantVariance = 1e-20;
 
  private:
   double count_ = 0;                  // observations seen
   std::vector<double> column_count_;  // [size] observations each column's statistics hold
   std::vector<double> mean_;          // [size]
-  std::vector<double> var_;   // [size] population variance
+  std::vector<double> var_;           // [size] population variance
   std::vector<uint8_t> passthrough_;  // [size] or empty (none)
 };
 
