@@ -175,6 +175,10 @@ void SelfPlay::after_step(const std::vector<BehaviorBuffers*>& buffers,
     // the next team whose behavior still trains (the same team when every other one is done)
     for (int k = 1; k < n && trainers_[teams_[next].behavior]->finished(); ++k) next = (next + 1) % n;
     if (next != learning_team_ && !(learner_done && trainers_[teams_[next].behavior]->finished())) {
+      // the team that stops learning ends its running trajectories here, bootstrapped from where
+      // they stopped: a snapshot plays its rows from now on, and its next turn starts in other
+      // episodes, which must not be appended to these
+      trainers_[learner.behavior]->interrupt_all(*buffers[learner.behavior]);
       learning_team_ = next;
       last_team_change_ = trainers_[teams_[learning_team_].behavior]->step();
       ++team_changes_;

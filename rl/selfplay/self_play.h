@@ -44,7 +44,8 @@ class SelfPlay {
   // Chooses the actions of every non-learning row that needs one.
   void act_opponents(std::vector<BehaviorBuffers*>& buffers,
                      const std::vector<std::vector<uint8_t>>& learner_rows);
-  // After the env step: ELO from finished learning agents, then snapshots, swaps, team changes.
+  // After the env step: ELO from finished learning agents, then snapshots, swaps, team changes
+  // (at a change the team that stops learning ends its running trajectories).
   void after_step(const std::vector<BehaviorBuffers*>& buffers,
                   const std::vector<std::vector<uint8_t>>& learner_rows);
 

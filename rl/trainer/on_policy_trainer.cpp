@@ -199,6 +199,12 @@ void OnPolicyTrainer::interrupt_all(const BehaviorBuffers& buf) {
   end_trajectories(buf, {}, rows);
 }
 
+int64_t OnPolicyTrainer::open_steps() const {
+  int64_t n = 0;
+  for (const auto& r : rewards_) n += int64_t(r.size());
+  return n;
+}
+
 float OnPolicyTrainer::decayed(float initial, float minimum, Schedule schedule) const {
   if (schedule == Schedule::kConstant) return initial;
   const double frac = std::min(1.0, double(step_) / double(config_.max_steps));

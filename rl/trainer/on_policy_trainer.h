@@ -77,6 +77,8 @@ class OnPolicyTrainer {
   void set_communicator(Communicator* comm);
   // experiences in the update buffer of this rank
   int64_t buffered() const { return buffer_.size(); }
+  // experiences recorded in trajectories not yet ended into the update buffer, over every row
+  int64_t open_steps() const;
   // the step counter as the ranks agreed it (their decisions summed)
   void set_step(int64_t step) { step_ = step; }
   // every trained parameter, [P] (the network and extra_parameters())

@@ -957,17 +957,19 @@ TEST_F(TrainingRunTest, UnknownBehaviorOrParameterIsAnErrorBeforeWriting) {
 }
 
 // Red and Blue take turns; Blue's turns play with x = 7, Red's with env_settings' x = 2.
-// `curriculum`: an environment_parameters block, if any.
-RunConfig turn_config(const std::string& blue_turn, const std::string& curriculum = "") {
+// `curriculum`: an environment_parameters block, if any; `team_change`: both behaviors' turns.
+RunConfig turn_config(const std::string& blue_turn, const std::string& curriculum = "",
+                      int team_change = 300) {
   std::ostringstream y;
   y << "default_settings:\n"
     << "  trainer_type: ppo\n"
     << "  hyperparameters: {batch_size: 32, buffer_size: 128, num_epoch: 1}\n"
     << "  network_settings: {hidden_units: 8, num_layers: 1}\n"
     << "  time_horizon: 16\n  max_steps: 1200\n  summary_freq: 100000\n  checkpoint_interval: 100000\n"
-    << "  self_play: {save_steps: 100, team_change: 300, swap_steps: 50, window: 2}\n"
+    << "  self_play: {save_steps: 100, team_change: " << team_change << ", swap_steps: 50, window: 2}\n"
     << "behaviors:\n  Red: {}\n"
-    << "  Blue:\n    self_play: {save_steps: 100, team_change: 300, swap_steps: 50, window: 2,\n"
+    << "  Blue:\n    self_play: {save_steps: 100, team_change: " << team_change
+    << ", swap_steps: 50, window: 2,\n"
     << "                turn_parameters: {" << blue_turn << "}}\n"
     << "env_settings: {env_id: TurnEchoEnv, num_envs: 3, seed: 2, params: {x: 2}}\n"
     << curriculum;
@@ -994,6 +996,31 @@ TEST_F(TrainingRunTest, TurnParametersHoldWhileTheirBehaviorLearns) {
   EXPECT_GT(red[2.f], 100);
   EXPECT_LE(blue[2.f] + red[7.f], 3 * 8);
   EXPECT_EQ(blue.size() + red.size(), 4u) << "x took values other than 2 and 7";
+}
+
+// A trajectory never spans two turns: when the learning team changes, the team that stops
+// learning ends its running trajectories there (bootstrapped from where they stopped), rather than
+// keeping them open until it learns again and appending another episode's steps to them. A turn
+// ends after 34 steps of the 3 instances (102 decisions), and an episode is 4 decisions: every
+// other change falls two decisions into an episode.
+TEST_F(TrainingRunTest, TheTeamThatStopsLearningEndsItsTrajectoriesAtTheChange) {
+  auto opt = options("turn_trajectories");
+  TrainingRun* running = nullptr;
+  int checked = 0;
+  opt.on_env_episode = [&](const EpisodeMetrics&) {
+    const SelfPlay& sp = running->self_play();
+    for (int b = 0; b < 2; ++b) {
+      if (sp.learns(b)) continue;
+      ASSERT_EQ(running->trainer(b).open_steps(), 0)
+          << running->trainer(b).behavior() << " kept steps of its last turn open";
+      ++checked;
+    }
+  };
+  TrainingRun run(turn_config("x: 7", "", 100), opt);
+  running = &run;
+  run.train();
+  EXPECT_GT(run.self_play().team_changes(), 10);
+  EXPECT_GT(checked, 100);
 }
 
 // A lesson measured on an episode metric for one behavior counts only the episodes of that
