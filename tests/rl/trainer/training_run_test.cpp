@@ -1001,8 +1001,8 @@ TEST_F(TrainingRunTest, TurnParametersHoldWhileTheirBehaviorLearns) {
 // A trajectory never spans two turns: when the learning team changes, the team that stops
 // learning ends its running trajectories there (bootstrapped from where they stopped), rather than
 // keeping them open until it learns again and appending another episode's steps to them. A turn
-// ends after 34 steps of the 3 instances (102 decisions), and an episode is 4 decisions: every
-// other change falls two decisions into an episode.
+// of team_change 100 ends after 34 decisions in each of the 3 instances (102 in all), and an
+// episode is 4 decisions: every other change falls two decisions into an episode.
 TEST_F(TrainingRunTest, TheTeamThatStopsLearningEndsItsTrajectoriesAtTheChange) {
   auto opt = options("turn_trajectories");
   TrainingRun* running = nullptr;
