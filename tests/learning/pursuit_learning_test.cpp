@@ -41,7 +41,9 @@ TEST(PursuitLearning, PocaSeekersTagFarMoreOftenThanRandomSeekers) {
   std::cout << "tag rate against the trained hiders at level " << level.at("level")
             << ": MA-POCA seekers " << trained << ", random seekers " << random << "\n"
             << log.str().substr(log.str().rfind("[Seeker]")) << "\n";
-  // measured: 0.34 against 0.015 (seed 1, 500k steps per behavior, final lesson level 3)
+  // measured (seed 1, final lesson level 3): 0.93 against 0.005 with 1M steps per behavior; with
+  // 500k the seekers tagged in 0.34 on a machine with OpenBLAS's Zen kernels and in 0.23 on one
+  // with its Haswell kernels, too near the bar, so the config trains 1M
   EXPECT_GE(trained, 0.25);
   EXPECT_LE(random, 0.1);
   EXPECT_GE(trained, 5 * random);
