@@ -3,6 +3,8 @@
 // rules, and reports the first problem with the file, key path and line.
 #include "rl/config/config_parser.h"
 
+#include "rl/config/config_layers.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -185,6 +187,19 @@ std::string describe(const YAML::Node& node) {
 
 // A value together with where it is: its dotted key path and its line (the line of its key).
 struct Val {
+  Val() = default;
+  Val(YAML::Node value, std::string key_path, int key_line)
+      : node(std::move(value)), path(std::move(key_path)), line(key_line) {}
+  Val(const Val&) = default;
+  // Rebinds `node`: yaml-cpp's Node::operator= would instead make the node this Val held share
+  // the other's value, changing the tree being read (a base_config's tree is read twice).
+  Val& operator=(const Val& other) {
+    node.reset(other.node);
+    path = other.path;
+    line = other.line;
+    return *this;
+  }
+
   YAML::Node node;
   std::string path;
   int line = 0;
@@ -282,17 +297,19 @@ void emit_string(YAML::Emitter& out, const std::string& text) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The parser: one per file, for the file name in messages.
+// The parser: one per file, for the file name in messages. A file laid over a base_config is
+// parsed as one tree, and a problem in a part that came from a base names the base's file.
 
 class Parser {
  public:
-  explicit Parser(std::string file) : file_(std::move(file)) {}
+  explicit Parser(KeyOrigins origins)
+      : origins_(std::move(origins)), file_(origins_.top_file()) {}
 
   RunConfig parse(const YAML::Node& root);
 
  private:
   [[noreturn]] void fail(const std::string& path, int line, const std::string& problem) const {
-    throw ConfigError(file_, path, line, problem);
+    throw ConfigError(origins_.file_of(path), path, line, problem);
   }
   [[noreturn]] void fail(const Val& value, const std::string& problem) const {
     fail(value.path, value.line, problem);
@@ -343,6 +360,7 @@ class Parser {
   void parse_torch_settings(const Val& value) const;
   void parse_engine_settings(const Val& value) const;
 
+  KeyOrigins origins_;
   std::string file_;
 };
 
@@ -1119,6 +1137,8 @@ RunConfig Parser::parse(const YAML::Node& root) {
   std::optional<Val> behaviors, defaults, env, checkpoint, parameters, torch, engine;
   auto keep = [](std::optional<Val>* slot) { return [slot](const Val& v) { *slot = v; }; };
   dispatch(top, {
+                    // laid under this file before parsing (load_run_config)
+                    {"base_config", [](const Val&) {}},
                     {"behaviors", keep(&behaviors)},
                     {"default_settings", keep(&defaults)},
                     {"env_settings", keep(&env)},
@@ -1405,7 +1425,10 @@ void emit_environment_parameters(
 
 }  // namespace
 
-RunConfig load_run_config_from_string(const std::string& yaml, const std::string& source_name) {
+namespace {
+
+// The one YAML document of a configuration's text; problems name `file`.
+YAML::Node read_document(const std::string& yaml, const std::string& file) {
   std::vector<YAML::Node> documents;
   try {
     documents = YAML::LoadAll(yaml);
@@ -1413,39 +1436,109 @@ RunConfig load_run_config_from_string(const std::string& yaml, const std::string
     const int line = error.mark.is_null() ? 0 : error.mark.line + 1;
     const std::string column =
         error.mark.is_null() ? "" : " (column " + std::to_string(error.mark.column + 1) + ")";
-    throw ConfigError(source_name, "", line, "YAML syntax error: " + error.msg + column);
+    throw ConfigError(file, "", line, "YAML syntax error: " + error.msg + column);
   } catch (const YAML::Exception& error) {
-    throw ConfigError(source_name, "", 0, std::string("cannot read the YAML: ") + error.what());
+    throw ConfigError(file, "", 0, std::string("cannot read the YAML: ") + error.what());
   }
   if (documents.empty() || (documents.size() == 1 && documents[0].IsNull())) {
-    throw ConfigError(source_name, "", 0,
+    throw ConfigError(file, "", 0,
                       "the configuration is empty (expected `behaviors` or `default_settings`)");
   }
   if (documents.size() > 1) {
-    throw ConfigError(source_name, "", line_of(documents[1]),
+    throw ConfigError(file, "", line_of(documents[1]),
                       "expected one YAML document, found " + std::to_string(documents.size()));
   }
+  return documents[0];
+}
+
+// The text of the file at `path`; problems name `file` (the path itself, or the file naming it
+// as a base) with `key_path` and `line`, and say which path could not be read.
+std::string read_text(const std::string& path, const std::string& file,
+                      const std::string& key_path, int line) {
+  const std::string what = file == path ? "" : " " + path;
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw ConfigError(file, key_path, line, "cannot read the configuration" + what + ": it is a directory");
+  }
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) {
+    throw ConfigError(file, key_path, line,
+                      "cannot read the configuration" + what + ": " + std::strerror(errno));
+  }
+  std::ostringstream text;
+  text << stream.rdbuf();
+  if (stream.bad()) {
+    throw ConfigError(file, key_path, line, "cannot read the configuration" + what + ": read error");
+  }
+  return text.str();
+}
+
+// `root`, the document of `file`, with the chain of base_config files it names laid under it.
+// Each base is read as a configuration on its own first, so that its problems name it. `chain`
+// holds the files that named this one, to refuse a cycle.
+YAML::Node lay_over_bases(const YAML::Node& root, const std::string& file,
+                          std::vector<std::string>* chain, KeyOrigins* origins) {
+  *origins = KeyOrigins(file);
+  if (!root.IsMap()) return root;  // the parser says what is wrong with it
+  bool has_base = false;
+  YAML::Node base_key, base_value;
+  YAML::Node over(YAML::NodeType::Map);  // the file without its base_config
+  for (auto it = root.begin(); it != root.end(); ++it) {
+    if (it->first.IsScalar() && it->first.Scalar() == "base_config") {
+      if (has_base) {
+        throw ConfigError(file, "", line_of(it->first), "key 'base_config' appears twice");
+      }
+      has_base = true;
+      base_key.reset(it->first);
+      base_value.reset(it->second);
+    } else {
+      over.force_insert(it->first, it->second);
+    }
+  }
+  if (!has_base) return root;
+  const int line = line_of(base_key);
+  if (!base_value.IsScalar() || base_value.Scalar().empty()) {
+    throw ConfigError(file, "base_config", line,
+                      "expected the path of a run configuration (relative to this file), got " +
+                          describe(base_value));
+  }
+  std::filesystem::path base_path(base_value.Scalar());
+  if (base_path.is_relative()) base_path = std::filesystem::path(file).parent_path() / base_path;
+  const std::string base = base_path.lexically_normal().string();
+  std::error_code error;
+  const std::string identity = std::filesystem::weakly_canonical(base_path, error).string();
+  chain->push_back(std::filesystem::weakly_canonical(file, error).string());
+  for (const std::string& named : *chain) {
+    if (named == identity) {
+      throw ConfigError(file, "base_config", line,
+                        base + " is this file or one of the files it is a base of: the bases "
+                               "would never end");
+    }
+  }
+  const YAML::Node base_root = read_document(read_text(base, file, "base_config", line), base);
+  KeyOrigins base_origins(base);
+  const YAML::Node base_tree = lay_over_bases(base_root, base, chain, &base_origins);
+  Parser(base_origins).parse(base_tree);  // the base must be a configuration on its own
+  chain->pop_back();
+  return lay_over(base_tree, base_origins, over, file, origins);
+}
+
+}  // namespace
+
+RunConfig load_run_config_from_string(const std::string& yaml, const std::string& source_name) {
+  const YAML::Node root = read_document(yaml, source_name);
   try {
-    return Parser(source_name).parse(documents[0]);
+    std::vector<std::string> chain;
+    KeyOrigins origins(source_name);
+    const YAML::Node tree = lay_over_bases(root, source_name, &chain, &origins);
+    return Parser(origins).parse(tree);
   } catch (const YAML::Exception& error) {  // not expected: the parser only reads checked nodes
     throw ConfigError(source_name, "", 0, std::string("cannot read the YAML: ") + error.what());
   }
 }
 
 RunConfig load_run_config(const std::string& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw ConfigError(path, "", 0, "cannot read the configuration: it is a directory");
-  }
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    throw ConfigError(path, "", 0,
-                      std::string("cannot read the configuration: ") + std::strerror(errno));
-  }
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw ConfigError(path, "", 0, "cannot read the configuration: read error");
-  return load_run_config_from_string(text.str(), path);
+  return load_run_config_from_string(read_text(path, path, "", 0), path);
 }
 
 std::string run_config_to_yaml(const RunConfig& config) {

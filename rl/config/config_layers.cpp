@@ -1,0 +1,112 @@
+// Layering a run configuration over its base: a key-by-key merge of two yaml-cpp trees that
+// builds new mappings only where both trees have one and reuses every other node as it is.
+#include "rl/config/config_layers.h"
+
+#include <set>
+#include <utility>
+
+#include "rl/config/config_parser.h"
+
+namespace rlt {
+
+namespace {
+
+// Whether `path` is `ancestor` or lies below it ("a.b" is below "a", "a[1]" too, "ab" is not).
+bool is_within(const std::string& path, const std::string& ancestor) {
+  if (ancestor.empty()) return true;
+  if (path.compare(0, ancestor.size(), ancestor) != 0) return false;
+  return path.size() == ancestor.size() || path[ancestor.size()] == '.' ||
+         path[ancestor.size()] == '[';
+}
+
+std::string child_path(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+int line_of(const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  return mark.is_null() ? 0 : mark.line + 1;
+}
+
+// The entry of scalar key `key` in mapping `map` (the key node, for its line, and the value).
+std::pair<YAML::Node, YAML::Node> find_entry(const YAML::Node& map, const std::string& key) {
+  for (auto it = map.begin(); it != map.end(); ++it) {
+    if (it->first.IsScalar() && it->first.Scalar() == key) return {it->first, it->second};
+  }
+  return {YAML::Node(YAML::NodeType::Undefined), YAML::Node(YAML::NodeType::Undefined)};
+}
+
+void lay_over_at(const YAML::Node& under, const KeyOrigins& under_origins, const YAML::Node& over,
+                 const std::string& path, const std::string& over_file, KeyOrigins* origins,
+                 YAML::Node* out) {
+  std::set<std::string> over_keys;
+  for (auto it = over.begin(); it != over.end(); ++it) {
+    if (!it->first.IsScalar()) continue;  // the parser reports a key that is not a name
+    if (!over_keys.insert(it->first.Scalar()).second) {
+      throw ConfigError(over_file, path, line_of(it->first),
+                        "key '" + it->first.Scalar() + "' appears twice");
+    }
+  }
+  // The base's keys first, in the base's order, then the keys only `over` has, in its order.
+  for (auto it = under.begin(); it != under.end(); ++it) {
+    const std::string key = it->first.IsScalar() ? it->first.Scalar() : "";
+    const std::string at = child_path(path, key);
+    if (!over_keys.count(key)) {
+      out->force_insert(it->first, it->second);
+      origins->take_subtree(at, under_origins);
+      continue;
+    }
+    // over's key node, so that messages about the key give the line in over's file
+    const auto [over_key, replacement] = find_entry(over, key);
+    if (it->second.IsMap() && replacement.IsMap()) {
+      YAML::Node merged(YAML::NodeType::Map);
+      lay_over_at(it->second, under_origins, replacement, at, over_file, origins, &merged);
+      out->force_insert(over_key, merged);
+    } else {
+      out->force_insert(over_key, replacement);
+    }
+  }
+  std::set<std::string> under_keys;
+  for (auto it = under.begin(); it != under.end(); ++it) {
+    if (it->first.IsScalar()) under_keys.insert(it->first.Scalar());
+  }
+  for (auto it = over.begin(); it != over.end(); ++it) {
+    if (!it->first.IsScalar() || !under_keys.count(it->first.Scalar())) {
+      out->force_insert(it->first, it->second);
+    }
+  }
+}
+
+}  // namespace
+
+const std::string& KeyOrigins::file_of(const std::string& key_path) const {
+  // The nearest listed ancestor: the longest listed path that key_path lies within.
+  const std::string* best = &top_file_;
+  size_t best_length = 0;
+  bool found = false;
+  for (auto it = files_.begin(); it != files_.end(); ++it) {
+    if (is_within(key_path, it->first) && (!found || it->first.size() >= best_length)) {
+      best = &it->second;
+      best_length = it->first.size();
+      found = true;
+    }
+  }
+  return *best;
+}
+
+void KeyOrigins::take_subtree(const std::string& key_path, const KeyOrigins& from) {
+  files_[key_path] = from.file_of(key_path);
+  for (const auto& [path, file] : from.files_) {
+    if (path != key_path && is_within(path, key_path)) files_[path] = file;
+  }
+}
+
+YAML::Node lay_over(const YAML::Node& under, const KeyOrigins& under_origins,
+                    const YAML::Node& over, const std::string& over_file, KeyOrigins* origins) {
+  *origins = KeyOrigins(over_file);
+  YAML::Node merged(YAML::NodeType::Map);
+  lay_over_at(under, under_origins, over, "", over_file, origins, &merged);
+  return merged;
+}
+
+}  // namespace rlt

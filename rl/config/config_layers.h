@@ -1,0 +1,42 @@
+// Layering one run configuration over another: a file that names a `base_config` holds only what
+// it changes, and its keys are laid over the base's. Mappings merge key by key at every depth;
+// anything else (a scalar, a list such as a curriculum's lessons, null) replaces the base's value
+// whole. Our extension: ML-Agents has no base files.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <map>
+#include <string>
+
+namespace rlt {
+
+// Which file each part of a layered tree came from, for messages: key path -> file for the
+// subtrees not taken from the top file. A path that is not listed takes the file of its nearest
+// listed ancestor, and the top file when none is listed.
+class KeyOrigins {
+ public:
+  explicit KeyOrigins(std::string top_file) : top_file_(std::move(top_file)) {}
+
+  // The file the value at `key_path` came from; key paths read as the parser writes them,
+  // "behaviors.Hider.hyperparameters" or "environment_parameters.level.curriculum[3].name".
+  const std::string& file_of(const std::string& key_path) const;
+  const std::string& top_file() const { return top_file_; }
+
+  // The subtree at `key_path` is `from`'s subtree there, with the files `from` gives its parts.
+  void take_subtree(const std::string& key_path, const KeyOrigins& from);
+
+ private:
+  std::string top_file_;
+  std::map<std::string, std::string> files_;
+};
+
+// `over` laid on `under`, both whole configurations (mappings), as a new tree. Neither input
+// changes and the result's nodes are theirs, so every value keeps its line. `under_origins`
+// tells where under's parts came from; the returned origins have over's file (`over_file`) on top.
+// A key given twice in a mapping of `over` that meets a mapping of `under` throws ConfigError
+// naming over_file (elsewhere the parser finds it as in any file).
+YAML::Node lay_over(const YAML::Node& under, const KeyOrigins& under_origins,
+                    const YAML::Node& over, const std::string& over_file, KeyOrigins* origins);
+
+}  // namespace rlt

@@ -1,0 +1,284 @@
+// Tests of base_config: a configuration laid over the file it names. Mappings merge at every
+// depth, everything else replaces; problems name the file and line they are in; a base that is
+// missing, not a path, or part of a cycle is an error naming the file that names it.
+#include "rl/config/config_layers.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "rl/config/config_parser.h"
+
+namespace rlt {
+namespace {
+
+// A folder of YAML files removed at the end of the test.
+class TempFolder {
+ public:
+  TempFolder()
+      : path_(std::filesystem::temp_directory_path() /
+              ("rlt_config_layers_test_" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TempFolder() { std::filesystem::remove_all(path_); }
+
+  // Writes `text` to NAME (a path inside the folder) and returns the file's path.
+  std::string write(const std::string& name, const std::string& text) const {
+    const std::filesystem::path file = path_ / name;
+    std::filesystem::create_directories(file.parent_path());
+    std::ofstream(file) << text;
+    return file.string();
+  }
+  std::string path(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// A whole configuration: two behaviors, settings in both layers, a curriculum.
+constexpr const char* kBase = R"(default_settings:
+  hyperparameters:
+    batch_size: 64
+    buffer_size: 640
+    beta: 0.005
+behaviors:
+  Runner:
+    trainer_type: ppo
+    hyperparameters:
+      learning_rate: 0.001
+    max_steps: 1000
+  Chaser:
+    trainer_type: ppo
+environment_parameters:
+  level:
+    curriculum:
+      - name: easy
+        value: 1
+        completion_criteria: {behavior: Runner, measure: reward, threshold: 0.5}
+      - name: hard
+        value: 2
+env_settings:
+  env_id: CartPole
+  num_envs: 4
+  params: {a: 1, b: 2}
+checkpoint_settings:
+  run_id: base_run
+)";
+
+ConfigError load_error(const std::string& path) {
+  try {
+    load_run_config(path);
+  } catch (const ConfigError& error) {
+    return error;
+  }
+  ADD_FAILURE() << "no ConfigError for " << path;
+  return ConfigError("", "", 0, "");
+}
+
+TEST(ConfigLayersTest, MappingsMergeKeyByKeyAndListsReplace) {
+  TempFolder folder;
+  folder.write("base.yaml", kBase);
+  const std::string child = folder.write("experiments/child.yaml", R"(# only what changes
+base_config: ../base.yaml
+behaviors:
+  Runner:
+    hyperparameters:
+      beta: 0.001
+environment_parameters:
+  level:
+    curriculum:
+      - name: only
+        value: 3
+env_settings:
+  params: {b: 5, c: 7}
+checkpoint_settings:
+  run_id: child_run
+)");
+  const RunConfig config = load_run_config(child);
+  EXPECT_EQ(config.source_file, child);
+  const BehaviorConfig& runner = config.behaviors.at("Runner");
+  EXPECT_FLOAT_EQ(runner.hyperparameters.beta, 0.001f);           // the child's
+  EXPECT_FLOAT_EQ(runner.hyperparameters.learning_rate, 0.001f);  // the base's, beside it
+  EXPECT_EQ(runner.hyperparameters.batch_size, 64);               // the base's default_settings
+  EXPECT_EQ(runner.max_steps, 1000);
+  EXPECT_FLOAT_EQ(config.behaviors.at("Chaser").hyperparameters.beta, 0.005f);
+  const auto& lessons = config.environment_parameters.at("level").curriculum;
+  ASSERT_EQ(lessons.size(), 1u);  // the child's list replaced the base's two lessons
+  EXPECT_EQ(lessons[0].name, "only");
+  EXPECT_EQ(config.env_settings.env_id, "CartPole");
+  EXPECT_EQ(config.env_settings.num_envs, 4);
+  EXPECT_EQ(config.env_settings.params.at("a"), 1.0);
+  EXPECT_EQ(config.env_settings.params.at("b"), 5.0);
+  EXPECT_EQ(config.env_settings.params.at("c"), 7.0);
+  EXPECT_EQ(config.checkpoint_settings.run_id, "child_run");
+  // what a run folder keeps is whole: it reads back without the base
+  const RunConfig again = load_run_config_from_string(run_config_to_yaml(config), "copy.yaml");
+  EXPECT_EQ(run_config_to_yaml(again), run_config_to_yaml(config));
+}
+
+TEST(ConfigLayersTest, BasesChainAndAnAbsolutePathWorks) {
+  TempFolder folder;
+  const std::string base = folder.write("base.yaml", kBase);
+  folder.write("middle.yaml", "base_config: " + base + "\nenv_settings:\n  num_envs: 8\n");
+  const std::string top = folder.write(
+      "top.yaml", "base_config: middle.yaml\nbehaviors:\n  Chaser:\n    max_steps: 77\n");
+  const RunConfig config = load_run_config(top);
+  EXPECT_EQ(config.env_settings.num_envs, 8);
+  EXPECT_EQ(config.behaviors.at("Chaser").max_steps, 77);
+  EXPECT_EQ(config.behaviors.at("Runner").max_steps, 1000);
+}
+
+TEST(ConfigLayersTest, ANullReplacesTheBasesValue) {
+  TempFolder folder;
+  folder.write("base.yaml", kBase);
+  // the Runner's own settings go, so it has default_settings' and ML-Agents' defaults
+  const std::string child =
+      folder.write("child.yaml", "base_config: base.yaml\nbehaviors:\n  Runner:\n");
+  const BehaviorConfig& runner = load_run_config(child).behaviors.at("Runner");
+  EXPECT_EQ(runner.max_steps, 500000);
+  EXPECT_FLOAT_EQ(runner.hyperparameters.learning_rate, 3e-4f);
+  EXPECT_EQ(runner.hyperparameters.batch_size, 64);
+}
+
+TEST(ConfigLayersTest, AProblemNamesTheFileAndLineItIsIn) {
+  TempFolder folder;
+  folder.write("base.yaml", kBase);
+  // in the child: the child's file and line
+  const std::string child = folder.write(
+      "child.yaml",
+      "base_config: base.yaml\nbehaviors:\n  Runner:\n    hyperparameters:\n      beta: lots\n");
+  ConfigError error = load_error(child);
+  EXPECT_EQ(error.file(), child) << error.what();
+  EXPECT_EQ(error.key_path(), "behaviors.Runner.hyperparameters.beta") << error.what();
+  EXPECT_EQ(error.line(), 5) << error.what();
+  // an unknown key in a merged mapping: the child's file and the key's line
+  const std::string typo = folder.write(
+      "typo.yaml", "base_config: base.yaml\nenv_settings:\n  num_env: 2\n");
+  error = load_error(typo);
+  EXPECT_EQ(error.file(), typo) << error.what();
+  EXPECT_EQ(error.line(), 3) << error.what();
+  EXPECT_NE(error.problem().find("did you mean 'num_envs'"), std::string::npos) << error.what();
+  // in the base, read alone first: the base's file and line
+  const std::string broken_base = folder.write(
+      "broken_base.yaml", std::string(kBase) + "torch_settings:\n  device: cuda\n");
+  const std::string over_broken =
+      folder.write("over_broken.yaml", "base_config: broken_base.yaml\n");
+  error = load_error(over_broken);
+  EXPECT_EQ(error.file(), broken_base) << error.what();
+  EXPECT_EQ(error.key_path(), "torch_settings.device") << error.what();
+  EXPECT_EQ(error.line(), 29) << error.what();
+  // in the child's curriculum, which replaced the base's: the child's line
+  const std::string lesson = folder.write(
+      "lesson.yaml",
+      "base_config: base.yaml\nbehaviors:\n  Runner:\n    max_steps: 5\n"
+      "environment_parameters:\n  level:\n    curriculum:\n      - name: easy\n        value: 1\n"
+      "        completion_criteria: {behavior: Runner, threshold: lots}\n"
+      "      - name: hard\n        value: 2\n");
+  error = load_error(lesson);
+  EXPECT_EQ(error.file(), lesson) << error.what();
+  EXPECT_EQ(error.key_path(), "environment_parameters.level.curriculum[0].completion_criteria.threshold")
+      << error.what();
+  EXPECT_EQ(error.line(), 10) << error.what();
+}
+
+TEST(ConfigLayersTest, BadBasesAreErrorsNamingTheFileThatNamesThem) {
+  TempFolder folder;
+  folder.write("base.yaml", kBase);
+  const std::string missing = folder.write("missing.yaml", "\n\nbase_config: nowhere.yaml\n");
+  ConfigError error = load_error(missing);
+  EXPECT_EQ(error.file(), missing) << error.what();
+  EXPECT_EQ(error.key_path(), "base_config") << error.what();
+  EXPECT_EQ(error.line(), 3) << error.what();
+  EXPECT_NE(error.problem().find("cannot read the configuration " + folder.path("nowhere.yaml")),
+            std::string::npos)
+      << error.what();
+  EXPECT_NE(error.problem().find("No such file"), std::string::npos) << error.what();
+
+  for (const char* value : {"[base.yaml]", "{file: base.yaml}", "''", "null"}) {
+    const std::string not_a_path =
+        folder.write("not_a_path.yaml", std::string("base_config: ") + value + "\n");
+    error = load_error(not_a_path);
+    EXPECT_EQ(error.key_path(), "base_config") << value << ": " << error.what();
+    EXPECT_NE(error.problem().find("expected the path of a run configuration"), std::string::npos)
+        << error.what();
+  }
+
+  const std::string twice =
+      folder.write("twice.yaml", "base_config: base.yaml\nbase_config: base.yaml\n");
+  EXPECT_NE(load_error(twice).problem().find("'base_config' appears twice"), std::string::npos);
+
+  const std::string self = folder.write("self.yaml", "base_config: self.yaml\n");
+  error = load_error(self);
+  EXPECT_EQ(error.file(), self) << error.what();
+  EXPECT_NE(error.problem().find("would never end"), std::string::npos) << error.what();
+  const std::string a = folder.write("a.yaml", "base_config: sub/../b.yaml\n");
+  folder.write("b.yaml", "base_config: a.yaml\n");
+  error = load_error(a);
+  EXPECT_EQ(error.file(), folder.path("b.yaml")) << error.what();
+  EXPECT_NE(error.problem().find("would never end"), std::string::npos) << error.what();
+
+  // a base that is not a configuration on its own
+  const std::string partial = folder.write("partial.yaml", "env_settings:\n  num_envs: 2\n");
+  const std::string over_partial = folder.write("over_partial.yaml", "base_config: partial.yaml\n");
+  error = load_error(over_partial);
+  EXPECT_EQ(error.file(), partial) << error.what();
+  EXPECT_NE(error.problem().find("no behaviors configured"), std::string::npos) << error.what();
+
+  // a key given twice in a mapping that merges
+  const std::string repeated = folder.write(
+      "repeated.yaml", "base_config: base.yaml\nenv_settings:\n  num_envs: 2\n  num_envs: 3\n");
+  error = load_error(repeated);
+  EXPECT_EQ(error.file(), repeated) << error.what();
+  EXPECT_EQ(error.line(), 4) << error.what();
+  EXPECT_NE(error.problem().find("'num_envs' appears twice"), std::string::npos) << error.what();
+
+  // base_config is read at the top of a file only
+  const std::string nested =
+      folder.write("nested.yaml", std::string(kBase) + "  base_config: base.yaml\n");
+  error = load_error(nested);
+  EXPECT_EQ(error.key_path(), "checkpoint_settings") << error.what();
+}
+
+TEST(ConfigLayersTest, KeyOriginsFindTheNearestListedAncestor) {
+  KeyOrigins base("base.yaml");
+  KeyOrigins top("top.yaml");
+  top.take_subtree("a.b", base);
+  EXPECT_EQ(top.file_of("a.b"), "base.yaml");
+  EXPECT_EQ(top.file_of("a.b.c"), "base.yaml");
+  EXPECT_EQ(top.file_of("a.b[3].d"), "base.yaml");
+  EXPECT_EQ(top.file_of("a.bc"), "top.yaml");
+  EXPECT_EQ(top.file_of("a"), "top.yaml");
+  EXPECT_EQ(top.file_of(""), "top.yaml");
+  // a subtree of a subtree: the deeper entry wins
+  KeyOrigins middle("middle.yaml");
+  middle.take_subtree("a.b.c", base);
+  KeyOrigins upper("upper.yaml");
+  upper.take_subtree("a", middle);
+  EXPECT_EQ(upper.file_of("a.x"), "middle.yaml");
+  EXPECT_EQ(upper.file_of("a.b.c.d"), "base.yaml");
+}
+
+TEST(ConfigLayersTest, LayOverKeepsBothInputsAndTheirLines) {
+  const YAML::Node under = YAML::Load("a:\n  x: 1\n  y: 2\nb: [1, 2]\n");
+  const YAML::Node over = YAML::Load("\na:\n  y: 3\nb: [4]\nc: 5\n");
+  KeyOrigins origins("over.yaml");
+  const YAML::Node merged = lay_over(under, KeyOrigins("under.yaml"), over, "over.yaml", &origins);
+  EXPECT_EQ(merged["a"]["x"].as<int>(), 1);
+  EXPECT_EQ(merged["a"]["y"].as<int>(), 3);
+  EXPECT_EQ(merged["b"].size(), 1u);
+  EXPECT_EQ(merged["c"].as<int>(), 5);
+  EXPECT_EQ(merged["a"]["x"].Mark().line, 1);  // under's line
+  EXPECT_EQ(merged["a"]["y"].Mark().line, 2);  // over's line
+  EXPECT_EQ(origins.file_of("a.x"), "under.yaml");
+  EXPECT_EQ(origins.file_of("a.y"), "over.yaml");
+  EXPECT_EQ(under["a"]["y"].as<int>(), 2);  // the inputs are unchanged
+  EXPECT_EQ(under["b"].size(), 2u);
+  EXPECT_FALSE(under["c"]);
+}
+
+}  // namespace
+}  // namespace rlt
