@@ -392,10 +392,15 @@ void Parser::dispatch(const Val& map, const std::vector<KeyHandler>& keys) const
     std::vector<std::string> names;
     for (const KeyHandler& key : keys) names.push_back(key.name);
     const std::string suggestion = did_you_mean(name, names);
-    if (name == "<<") fail(map.path, value.line, "YAML merge keys ('<<') are not supported");
-    fail(map.path, value.line,
-         "unknown key '" + name + "'" +
-             (suggestion.empty() ? " (expected one of: " + join_names(names) + ")" : suggestion));
+    // the file is the key's own (a merged mapping's keys may come from several files)
+    const std::string& file = origins_.file_of(value.path);
+    if (name == "<<") {
+      throw ConfigError(file, map.path, value.line, "YAML merge keys ('<<') are not supported");
+    }
+    throw ConfigError(
+        file, map.path, value.line,
+        "unknown key '" + name + "'" +
+            (suggestion.empty() ? " (expected one of: " + join_names(names) + ")" : suggestion));
   });
 }
 
@@ -1473,6 +1478,16 @@ std::string read_text(const std::string& path, const std::string& file,
   return text.str();
 }
 
+// The file at `path` as one name for every way of writing it: symbolic links and ".." resolved
+// as far as the path exists, else the absolute path as written.
+std::string file_identity(const std::string& path) {
+  std::error_code error;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, error);
+  if (!error) return canonical.string();
+  const std::filesystem::path absolute = std::filesystem::absolute(path, error);
+  return (error ? std::filesystem::path(path) : absolute).lexically_normal().string();
+}
+
 // `root`, the document of `file`, with the chain of base_config files it names laid under it.
 // Each base is read as a configuration on its own first, so that its problems name it. `chain`
 // holds the files that named this one, to refuse a cycle.
@@ -1504,15 +1519,16 @@ YAML::Node lay_over_bases(const YAML::Node& root, const std::string& file,
   }
   std::filesystem::path base_path(base_value.Scalar());
   if (base_path.is_relative()) base_path = std::filesystem::path(file).parent_path() / base_path;
-  const std::string base = base_path.lexically_normal().string();
-  std::error_code error;
-  const std::string identity = std::filesystem::weakly_canonical(base_path, error).string();
-  chain->push_back(std::filesystem::weakly_canonical(file, error).string());
+  const std::string base = base_path.lexically_normal().string();  // read and named as this
+  chain->push_back(file_identity(file));
+  const std::string identity = file_identity(base);
   for (const std::string& named : *chain) {
     if (named == identity) {
+      std::string files;
+      for (const std::string& f : *chain) files += f + " -> ";
       throw ConfigError(file, "base_config", line,
-                        base + " is this file or one of the files it is a base of: the bases "
-                               "would never end");
+                        base + " is this file or one of the files it is a base of, so the bases "
+                               "would never end (" + files + identity + ")");
     }
   }
   const YAML::Node base_root = read_document(read_text(base, file, "base_config", line), base);

@@ -92,7 +92,8 @@ class ConfigError : public std::runtime_error {
 RunConfig load_run_config(const std::string& path);
 
 // Same as load_run_config for YAML text; `source_name` stands for the file name in messages and in
-// RunConfig::source_file. Throws ConfigError.
+// RunConfig::source_file, and a base_config in the text is read from disk relative to
+// source_name's folder. Throws ConfigError.
 RunConfig load_run_config_from_string(const std::string& yaml, const std::string& source_name);
 
 // The fully resolved configuration (every field, defaults filled in) in the same schema, such that

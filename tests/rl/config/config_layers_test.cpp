@@ -185,6 +185,47 @@ TEST(ConfigLayersTest, AProblemNamesTheFileAndLineItIsIn) {
   EXPECT_EQ(error.line(), 10) << error.what();
 }
 
+// Problems that only the layered tree has: the parser names the file each value came from.
+TEST(ConfigLayersTest, AProblemOfTheLayeredTreeNamesTheFileOfTheValue) {
+  TempFolder folder;
+  const std::string base = folder.write("base.yaml", kBase);
+  // the child raises batch_size above the base's buffer_size: the buffer_size is the base's
+  const std::string raised = folder.write(
+      "raised.yaml", "base_config: base.yaml\ndefault_settings:\n  hyperparameters:\n"
+                     "    batch_size: 1280\n");
+  ConfigError error = load_error(raised);
+  EXPECT_EQ(error.file(), base) << error.what();
+  EXPECT_EQ(error.key_path(), "default_settings.hyperparameters.buffer_size") << error.what();
+  EXPECT_EQ(error.line(), 4) << error.what();
+  EXPECT_NE(error.problem().find("must be at least batch_size (1280)"), std::string::npos)
+      << error.what();
+  // three files, the failing value in the middle one (in another folder, its base named
+  // relative to that folder), the change that breaks it in the top one
+  folder.write("middle/middle.yaml",
+               "base_config: ../base.yaml\n\nbehaviors:\n  Chaser:\n    hyperparameters:\n"
+               "      buffer_size: 100\n");
+  const std::string top = folder.write(
+      "top/top.yaml", "base_config: ../middle/middle.yaml\nbehaviors:\n  Chaser:\n"
+                      "    hyperparameters:\n      batch_size: 200\n");
+  error = load_error(top);
+  EXPECT_EQ(error.file(), folder.path("middle/middle.yaml")) << error.what();
+  EXPECT_EQ(error.key_path(), "behaviors.Chaser.hyperparameters.buffer_size") << error.what();
+  EXPECT_EQ(error.line(), 6) << error.what();
+  // a key that is unknown only next to the child's sibling: the key's own file and line
+  std::string with_sampler(kBase);
+  with_sampler.replace(with_sampler.find("environment_parameters:\n"), 24,
+                       "environment_parameters:\n  speed:\n    sampler_type: uniform\n"
+                       "    sampler_parameters: {min_value: 1, max_value: 2}\n");
+  folder.write("sampler_base.yaml", with_sampler);
+  const std::string gaussian = folder.write(
+      "gaussian.yaml", "base_config: sampler_base.yaml\nenvironment_parameters:\n  speed:\n"
+                       "    sampler_type: gaussian\n    sampler_parameters: {mean: 1, st_dev: 1}\n");
+  error = load_error(gaussian);
+  EXPECT_EQ(error.file(), folder.path("sampler_base.yaml")) << error.what();
+  EXPECT_EQ(error.line(), 17) << error.what();
+  EXPECT_NE(error.problem().find("min_value"), std::string::npos) << error.what();
+}
+
 TEST(ConfigLayersTest, BadBasesAreErrorsNamingTheFileThatNamesThem) {
   TempFolder folder;
   folder.write("base.yaml", kBase);
