@@ -48,8 +48,10 @@ void lay_over_at(const YAML::Node& under, const KeyOrigins& under_origins, const
     }
   }
   // The base's keys first, in the base's order, then the keys only `over` has, in its order.
+  std::set<std::string> under_keys;
   for (auto it = under.begin(); it != under.end(); ++it) {
     const std::string key = it->first.IsScalar() ? it->first.Scalar() : "";
+    under_keys.insert(key);
     const std::string at = child_path(path, key);
     if (!over_keys.count(key)) {
       out->force_insert(it->first, it->second);
@@ -65,10 +67,6 @@ void lay_over_at(const YAML::Node& under, const KeyOrigins& under_origins, const
     } else {
       out->force_insert(over_key, replacement);
     }
-  }
-  std::set<std::string> under_keys;
-  for (auto it = under.begin(); it != under.end(); ++it) {
-    if (it->first.IsScalar()) under_keys.insert(it->first.Scalar());
   }
   for (auto it = over.begin(); it != over.end(); ++it) {
     if (!it->first.IsScalar() || !under_keys.count(it->first.Scalar())) {

@@ -1463,7 +1463,8 @@ std::string read_text(const std::string& path, const std::string& file,
   const std::string what = file == path ? "" : " " + path;
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) {
-    throw ConfigError(file, key_path, line, "cannot read the configuration" + what + ": it is a directory");
+    throw ConfigError(file, key_path, line,
+                      "cannot read the configuration" + what + ": it is a directory");
   }
   std::ifstream stream(path, std::ios::binary);
   if (!stream) {
