@@ -109,6 +109,8 @@ struct HideAndSeek::Settings {
   float hider_outside_chance = 0.0f;  // chance that a hider starts just outside the room
   float prop_start_offset = 1.0f;     // levels 1-2: 0 = props start in the doorways, 1 = own place
   float prop_start_spread = 0.0f;     // chance that an episode's offset is uniform in [0, offset]
+  float prop_start_far_chance = 0.0f;  // chance that it is uniform in [offset, far offset] instead
+  float prop_start_far_offset = 1.0f;
   // level 2: 0 = prop i gets the i-th own place drawn; 1 = the places go to the props so that the
   // ways from doorway i to prop i are least in total (paired_level2_starts)
   int prop_pairing = 0;
@@ -195,6 +197,8 @@ HideAndSeek::HideAndSeek()
       {"hider_outside_chance", -1.f},
       {"prop_start_offset", 1.f},
       {"prop_start_spread", 0.f},
+      {"prop_start_far_chance", 0.f},
+      {"prop_start_far_offset", 1.f},
       {"prop_pairing", 0.f},
       {"owner_shift", 0.f},
       {"doorway_swap_chance", 0.f},
@@ -348,6 +352,8 @@ void HideAndSeek::build_episode() {
   s.vision_cone = drone::float_parameter(*this, "vision_cone", 1.0f, 360.0f);
   s.prop_start_offset = drone::float_parameter(*this, "prop_start_offset", 0.0f, 1.0f);
   s.prop_start_spread = drone::float_parameter(*this, "prop_start_spread", 0.0f, 1.0f);
+  s.prop_start_far_chance = drone::float_parameter(*this, "prop_start_far_chance", 0.0f, 1.0f);
+  s.prop_start_far_offset = drone::float_parameter(*this, "prop_start_far_offset", 0.0f, 1.0f);
   s.prop_pairing = drone::int_parameter(*this, "prop_pairing", 0, 1);
   s.owner_shift = drone::int_parameter(*this, "owner_shift", 0, 3);
   s.doorway_swap_chance = drone::float_parameter(*this, "doorway_swap_chance", 0.0f, 1.0f);
@@ -398,11 +404,18 @@ void HideAndSeek::build_episode() {
   // levels 1 and 2, prop_start_offset t < 1: prop i starts the fraction t of the way from standing
   // in doorway i (unlocked, covering it, parallel to its wall) to its own start place
   // (prop_start_spread: this episode's t drawn uniformly from [0, t] instead, with that chance;
-  // the engine is only drawn from when the spread is on, so runs without it keep their episodes)
+  // else prop_start_far_chance: from [t, max(t, prop_start_far_offset)], with that chance; the
+  // engine is only drawn from for a chance that is on, so runs without them keep their episodes)
   float offset = s.prop_start_offset;
-  if (level_ <= 2 && s.prop_start_spread > 0.0f &&
-      uniform(engine_, 0.0, 1.0) < static_cast<double>(s.prop_start_spread))
+  const auto chance = [&](float p) {
+    return level_ <= 2 && p > 0.0f && uniform(engine_, 0.0, 1.0) < static_cast<double>(p);
+  };
+  if (chance(s.prop_start_spread)) {
     offset = static_cast<float>(uniform(engine_, 0.0, static_cast<double>(offset)));
+  } else if (chance(s.prop_start_far_chance)) {
+    const float far = std::max(offset, s.prop_start_far_offset);
+    offset = static_cast<float>(uniform(engine_, static_cast<double>(offset), static_cast<double>(far)));
+  }
   episode_offset_ = level_ <= 2 ? offset : 1.0f;
   const auto in_doorway = [&](int i) { return standing_in(openings[i], prop_y); };
   if (level_ == 1) {

@@ -38,7 +38,9 @@
 // a curriculum that teaches locking before dragging (level 2: the prop's yaw turns the same
 // fraction of the way from parallel to the wall to its random yaw); with chance
 // `prop_start_spread` (default 0) an episode's offset is drawn uniformly from [0, t] instead, so
-// that easier starts stay in the mix while the rest start at t; with `prop_pairing` 1 (default
+// that easier starts stay in the mix while the rest start at t, and otherwise with chance
+// `prop_start_far_chance` (default 0) from [t, max(t, `prop_start_far_offset`)] (default 1), so
+// that some episodes ask for the longer push of later lessons; with `prop_pairing` 1 (default
 // 0) the two level-2 start places are drawn first and prop i gets the one that keeps the ways from
 // each doorway to its prop least in total (the panels are alike: only which is whose changes, so
 // hider h's own prop is never the one across the room); the shelter strategy counts

@@ -109,6 +109,8 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"prop_cues", 2.f},
                                                   {"object_obs", -1.f},
                                                   {"prop_start_spread", 1.5f},
+                                                  {"prop_start_far_chance", -0.1f},
+                                                  {"prop_start_far_offset", 1.2f},
                                                   {"prop_pairing", 0.5f},
                                                   {"cover_depth", 0.4f},
                                                   {"unlock_cost", -0.1f},
@@ -283,6 +285,58 @@ TEST(HideAndSeekTest, PropStartSpreadMixesEasierStartsIn) {
     again.harness.reset();
     once_more.harness.reset();
     ASSERT_EQ(again.env.props()[1].position(), once_more.env.props()[1].position());
+  }
+}
+
+// prop_start_far_chance: that share of the episodes starts its props at an offset drawn from
+// [prop_start_offset, prop_start_far_offset], the others at prop_start_offset
+TEST(HideAndSeekTest, PropStartFarChanceMixesLongerPushesIn) {
+  Game g({{"level", 1.f},
+          {"prop_start_offset", 0.1f},
+          {"prop_start_far_chance", 0.3f},
+          {"prop_start_far_offset", 0.5f}},
+         5);
+  int at_offset = 0;
+  std::vector<float> drawn;
+  for (int episode = 0; episode < 300; ++episode) {
+    g.harness.reset();
+    const float t = g.env.episode_metrics().at("prop_start_offset");
+    ASSERT_GE(t, 0.1f);
+    ASSERT_LE(t, 0.5f);
+    if (t == 0.1f)
+      ++at_offset;
+    else
+      drawn.push_back(t);
+  }
+  EXPECT_NEAR(at_offset, 210, 30);  // binomial(300, 0.7): 210 +- 8
+  const float mean = std::accumulate(drawn.begin(), drawn.end(), 0.0f) / drawn.size();
+  EXPECT_NEAR(mean, 0.3f, 0.04f);  // uniform on [0.1, 0.5]
+  // the far props really start farther from the doorway
+  Game near({{"level", 1.f}, {"prop_start_offset", 0.1f}}, 5);
+  Game far({{"level", 1.f}, {"prop_start_offset", 0.1f}, {"prop_start_far_chance", 1.f},
+            {"prop_start_far_offset", 0.5f}},
+           5);
+  const btVector3 door = near.env.arena().openings()[0].centre;
+  const auto distance = [&](Game& game) {
+    const btVector3 d = game.env.props()[0].position() - door;
+    return std::hypot(d.x(), d.z());
+  };
+  float near_sum = 0.0f, far_sum = 0.0f;
+  for (int episode = 0; episode < 20; ++episode) {
+    near.harness.reset();
+    far.harness.reset();
+    ASSERT_EQ(near.env.episode_metrics().at("prop_start_offset"), 0.1f);
+    near_sum += distance(near);
+    far_sum += distance(far);
+  }
+  EXPECT_GT(far_sum, near_sum + 20 * 0.2f);  // measured: 0.29 m farther on average
+  // a far offset below the lesson's offset leaves every episode at the offset
+  Game below({{"level", 1.f}, {"prop_start_offset", 0.3f}, {"prop_start_far_chance", 1.f},
+              {"prop_start_far_offset", 0.1f}},
+             5);
+  for (int episode = 0; episode < 10; ++episode) {
+    below.harness.reset();
+    ASSERT_EQ(below.env.episode_metrics().at("prop_start_offset"), 0.3f);
   }
 }
 
