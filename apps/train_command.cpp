@@ -17,7 +17,8 @@ const char* const kTrainHelp = R"(Usage: rlt train CONFIG [options]
 Trains every behavior of the environment named by CONFIG's env_settings.env_id with the trainer of
 its behaviors: entry. CONFIG may name a base_config (a path relative to CONFIG's folder, or
 absolute; a base may name its own): CONFIG's keys are laid over the base's, mappings merging key
-by key and other values (lists and null too) replacing the base's. Writes results/<run-id>/:
+by key, a mapping over a curriculum's lessons changing the lessons it names (lesson name -> keys),
+and other values (lists and null too) replacing the base's. Writes results/<run-id>/:
 configuration.yaml (the whole resolved configuration), checkpoints/, metrics/,
 <Behavior>/events.out.tfevents.* (TensorBoard, ML-Agents' tags: tensorboard --logdir results),
 training_status.json and <Behavior>.pt (TorchScript policies) at the end. Envs that declare

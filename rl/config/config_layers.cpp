@@ -38,6 +38,67 @@ std::pair<YAML::Node, YAML::Node> find_entry(const YAML::Node& map, const std::s
 
 void lay_over_at(const YAML::Node& under, const KeyOrigins& under_origins, const YAML::Node& over,
                  const std::string& path, const std::string& over_file, KeyOrigins* origins,
+                 YAML::Node* out);
+
+// The value of entry `entry`'s scalar key `name`, or "" when it has none (or is no mapping).
+std::string name_of(const YAML::Node& entry) {
+  if (!entry.IsMap()) return "";
+  const YAML::Node name = find_entry(entry, "name").second;
+  return name.IsDefined() && name.IsScalar() ? name.Scalar() : "";
+}
+
+// Whether `list` is a list of named mappings (a curriculum's lessons), which a mapping can patch.
+bool is_named_list(const YAML::Node& list) {
+  if (!list.IsSequence() || list.size() == 0) return false;
+  for (const YAML::Node& entry : list) {
+    if (name_of(entry).empty()) return false;
+  }
+  return true;
+}
+
+// `patches` (name -> mapping) laid over the entries of `list` that have those names; the other
+// entries are kept as they are, and the list keeps its order and length.
+YAML::Node patch_by_name(const YAML::Node& list, const KeyOrigins& under_origins,
+                         const YAML::Node& patches, const std::string& path,
+                         const std::string& over_file, KeyOrigins* origins) {
+  std::string names;
+  for (const YAML::Node& entry : list) names += (names.empty() ? "'" : ", '") + name_of(entry) + "'";
+  std::set<std::string> patched;
+  for (auto it = patches.begin(); it != patches.end(); ++it) {
+    const std::string name = it->first.IsScalar() ? it->first.Scalar() : "";
+    if (!patched.insert(name).second) {
+      throw ConfigError(over_file, path, line_of(it->first), "entry '" + name + "' appears twice");
+    }
+    bool found = false;
+    for (const YAML::Node& entry : list) found = found || name_of(entry) == name;
+    if (!found) {
+      throw ConfigError(over_file, path, line_of(it->first),
+                        "the base's list has no entry named '" + name + "' to change (its names: " +
+                            names + ")");
+    }
+    if (!it->second.IsMap()) {
+      throw ConfigError(over_file, child_path(path, name), line_of(it->first),
+                        "a change to entry '" + name + "' of the base's list must be a mapping");
+    }
+  }
+  YAML::Node result(YAML::NodeType::Sequence);
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string at = path + "[" + std::to_string(i) + "]";
+    const YAML::Node patch = find_entry(patches, name_of(list[i])).second;
+    if (!patch.IsDefined()) {
+      result.push_back(list[i]);
+      origins->take_subtree(at, under_origins);
+      continue;
+    }
+    YAML::Node merged(YAML::NodeType::Map);
+    lay_over_at(list[i], under_origins, patch, at, over_file, origins, &merged);
+    result.push_back(merged);
+  }
+  return result;
+}
+
+void lay_over_at(const YAML::Node& under, const KeyOrigins& under_origins, const YAML::Node& over,
+                 const std::string& path, const std::string& over_file, KeyOrigins* origins,
                  YAML::Node* out) {
   std::set<std::string> over_keys;
   for (auto it = over.begin(); it != over.end(); ++it) {
@@ -64,6 +125,9 @@ void lay_over_at(const YAML::Node& under, const KeyOrigins& under_origins, const
       YAML::Node merged(YAML::NodeType::Map);
       lay_over_at(it->second, under_origins, replacement, at, over_file, origins, &merged);
       out->force_insert(over_key, merged);
+    } else if (is_named_list(it->second) && replacement.IsMap()) {
+      out->force_insert(over_key, patch_by_name(it->second, under_origins, replacement, at,
+                                                over_file, origins));
     } else {
       out->force_insert(over_key, replacement);
     }

@@ -1,7 +1,9 @@
 // Layering one run configuration over another: a file that names a `base_config` holds only what
 // it changes, and its keys are laid over the base's. Mappings merge key by key at every depth;
-// anything else (a scalar, a list such as a curriculum's lessons, null) replaces the base's value
-// whole. Our extension: ML-Agents has no base files.
+// a mapping laid over a list of named mappings (a curriculum's lessons) changes the entries it
+// names (lesson name -> the lesson's keys to lay over), keeping the list's order and the rest;
+// anything else (a scalar, a list, null) replaces the base's value whole. Our extension:
+// ML-Agents has no base files.
 #pragma once
 
 #include <yaml-cpp/yaml.h>

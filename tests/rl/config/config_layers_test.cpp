@@ -120,6 +120,67 @@ checkpoint_settings:
   EXPECT_EQ(run_config_to_yaml(again), run_config_to_yaml(config));
 }
 
+// A mapping over a curriculum's lessons changes the lessons it names and keeps the rest.
+TEST(ConfigLayersTest, AMappingOverTheLessonsChangesTheNamedOnes) {
+  TempFolder folder;
+  folder.write("base.yaml", kBase);
+  const std::string child = folder.write("child.yaml", R"(base_config: base.yaml
+environment_parameters:
+  level:
+    curriculum:
+      hard:
+        value: 5
+      easy:
+        completion_criteria: {threshold: 0.9}
+)");
+  const RunConfig config = load_run_config(child);
+  const auto& lessons = config.environment_parameters.at("level").curriculum;
+  ASSERT_EQ(lessons.size(), 2u);  // the base's order, not the child's
+  EXPECT_EQ(lessons[0].name, "easy");
+  EXPECT_EQ(lessons[1].name, "hard");
+  EXPECT_EQ(lessons[1].value.value, 5.0f);
+  EXPECT_EQ(lessons[0].value.value, 1.0f);  // the base's
+  ASSERT_TRUE(lessons[0].completion_criteria.has_value());
+  EXPECT_FLOAT_EQ(lessons[0].completion_criteria->threshold, 0.9f);  // the child's
+  EXPECT_EQ(lessons[0].completion_criteria->behavior, "Runner");  // the base's, beside it
+  EXPECT_EQ(lessons[0].completion_criteria->measure, CompletionMeasure::kReward);
+  // a name the base does not have: the child's file and line, and the names there are
+  const std::string typo = folder.write("typo.yaml", R"(base_config: base.yaml
+environment_parameters:
+  level:
+    curriculum:
+      hardest:
+        value: 5
+)");
+  ConfigError error = load_error(typo);
+  EXPECT_EQ(error.file(), typo) << error.what();
+  EXPECT_EQ(error.key_path(), "environment_parameters.level.curriculum") << error.what();
+  EXPECT_EQ(error.line(), 5) << error.what();
+  EXPECT_NE(error.problem().find("no entry named 'hardest'"), std::string::npos) << error.what();
+  EXPECT_NE(error.problem().find("'easy', 'hard'"), std::string::npos) << error.what();
+  // a change that is not a mapping
+  const std::string scalar = folder.write(
+      "scalar.yaml",
+      "base_config: base.yaml\nenvironment_parameters:\n  level:\n    curriculum:\n      hard: 3\n");
+  error = load_error(scalar);
+  EXPECT_EQ(error.file(), scalar) << error.what();
+  EXPECT_EQ(error.line(), 5) << error.what();
+  EXPECT_NE(error.problem().find("must be a mapping"), std::string::npos) << error.what();
+  // a problem in a changed lesson names the child's line; one in a kept lesson the base's
+  const std::string bad = folder.write("bad.yaml", R"(base_config: base.yaml
+environment_parameters:
+  level:
+    curriculum:
+      easy:
+        completion_criteria: {threshold: lots}
+)");
+  error = load_error(bad);
+  EXPECT_EQ(error.file(), bad) << error.what();
+  EXPECT_EQ(error.key_path(), "environment_parameters.level.curriculum[0].completion_criteria.threshold")
+      << error.what();
+  EXPECT_EQ(error.line(), 6) << error.what();
+}
+
 TEST(ConfigLayersTest, BasesChainAndAnAbsolutePathWorks) {
   TempFolder folder;
   const std::string base = folder.write("base.yaml", kBase);
