@@ -414,7 +414,8 @@ void HideAndSeek::build_episode() {
     offset = static_cast<float>(uniform(engine_, 0.0, static_cast<double>(offset)));
   } else if (chance(s.prop_start_far_chance)) {
     const float far = std::max(offset, s.prop_start_far_offset);
-    offset = static_cast<float>(uniform(engine_, static_cast<double>(offset), static_cast<double>(far)));
+    offset = static_cast<float>(
+        uniform(engine_, static_cast<double>(offset), static_cast<double>(far)));
   }
   episode_offset_ = level_ <= 2 ? offset : 1.0f;
   const auto in_doorway = [&](int i) { return standing_in(openings[i], prop_y); };

@@ -61,20 +61,22 @@ bool is_named_list(const YAML::Node& list) {
 YAML::Node patch_by_name(const YAML::Node& list, const KeyOrigins& under_origins,
                          const YAML::Node& patches, const std::string& path,
                          const std::string& over_file, KeyOrigins* origins) {
-  std::string names;
-  for (const YAML::Node& entry : list) names += (names.empty() ? "'" : ", '") + name_of(entry) + "'";
+  std::set<std::string> names;
+  std::string listed;
+  for (const YAML::Node& entry : list) {
+    names.insert(name_of(entry));
+    listed += (listed.empty() ? "'" : ", '") + name_of(entry) + "'";
+  }
   std::set<std::string> patched;
   for (auto it = patches.begin(); it != patches.end(); ++it) {
     const std::string name = it->first.IsScalar() ? it->first.Scalar() : "";
     if (!patched.insert(name).second) {
       throw ConfigError(over_file, path, line_of(it->first), "entry '" + name + "' appears twice");
     }
-    bool found = false;
-    for (const YAML::Node& entry : list) found = found || name_of(entry) == name;
-    if (!found) {
+    if (!names.count(name)) {
       throw ConfigError(over_file, path, line_of(it->first),
-                        "the base's list has no entry named '" + name + "' to change (its names: " +
-                            names + ")");
+                        "the base's list has no entry named '" + name +
+                            "' to change (its names: " + listed + ")");
     }
     if (!it->second.IsMap()) {
       throw ConfigError(over_file, child_path(path, name), line_of(it->first),

@@ -166,7 +166,7 @@ environment_parameters:
   EXPECT_EQ(error.file(), scalar) << error.what();
   EXPECT_EQ(error.line(), 5) << error.what();
   EXPECT_NE(error.problem().find("must be a mapping"), std::string::npos) << error.what();
-  // a problem in a changed lesson names the child's line; one in a kept lesson the base's
+  // a problem in a changed lesson names the child's file and line
   const std::string bad = folder.write("bad.yaml", R"(base_config: base.yaml
 environment_parameters:
   level:
