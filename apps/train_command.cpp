@@ -45,8 +45,8 @@ Options:
   --force                overwrite an existing run folder
   --initialize-from ID   start from the weights of run ID's newest checkpoint
   --num-envs N           environment instances (default: env_settings.num_envs)
-  --seed S               base seed; instance i uses S + i (default: env_settings.seed, else 0;
-                         with --resume the seed the run began with)
+  --seed S               base seed; instance i's seed mixes S and i (default:
+                         env_settings.seed, else 0; with --resume the seed the run began with)
   --max-steps N          steps per behavior, overriding max_steps and lessons'
                          behavior_max_steps
   --param NAME=VALUE     set an env parameter over env_settings.params (repeat; not one that

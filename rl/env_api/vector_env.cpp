@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "rl/env_api/derived_seed.h"
 #include "rl/env_api/env_registry.h"
 
 namespace rlt {
@@ -17,7 +18,7 @@ VectorEnv::VectorEnv(const std::string& env_id, int num_envs, uint64_t base_seed
     StepView view;
     for (auto& b : buffers_) view.emplace_back(&b, i);
     views_.push_back(std::move(view));
-    envs_[i]->seed(base_seed + i);
+    envs_[i]->seed(derived_seed(base_seed, i));
   }
   needs_reset_.assign(num_envs, 1);
   just_finished_.assign(num_envs, 0);
@@ -46,12 +47,12 @@ bool VectorEnv::episode_over(int i) {
 }
 
 void VectorEnv::reset() {
-  for (int i = 0; i < num_envs(); ++i) envs_[i]->seed(base_seed_ + i);
+  for (int i = 0; i < num_envs(); ++i) envs_[i]->seed(derived_seed(base_seed_, i));
   start_episodes();
 }
 
 void VectorEnv::reseed_and_reset(uint64_t seed) {
-  for (int i = 0; i < num_envs(); ++i) envs_[i]->seed(seed + i);
+  for (int i = 0; i < num_envs(); ++i) envs_[i]->seed(derived_seed(seed, i));
   start_episodes();
 }
 

@@ -1,8 +1,8 @@
 // N instances of one environment stepped together on a thread pool, with automatic reset.
 //
-// Env i is seeded with base_seed + i (EnvPool's convention). An instance whose episode has ended
-// (every slot kLast or kAbsent after a step) is reset by the next call to step() instead of being
-// stepped: its rows then hold kFirst, and the actions written for them are ignored. Final
+// Env i is seeded with derived_seed(base_seed, i) (derived_seed.h). An instance whose episode has
+// ended (every slot kLast or kAbsent after a step) is reset by the next call to step() instead of
+// being stepped: its rows then hold kFirst, and the actions written for them are ignored. Final
 // observations therefore stay in the buffers for one step, where trainers read them (bootstrap).
 #pragma once
 
@@ -46,10 +46,10 @@ class VectorEnv {
   // map's).
   std::vector<std::string> episode_metric_names() const;
 
-  // Seeds env i with base_seed + i and starts an episode in every instance.
+  // Seeds env i with derived_seed(base_seed, i) and starts an episode in every instance.
   void reset();
-  // Seeds every instance again (env i: seed + i) and starts new episodes: used to restart from a
-  // deterministic point, e.g. at a checkpoint.
+  // Seeds every instance again (env i: derived_seed(seed, i)) and starts new episodes: used to
+  // restart from a deterministic point, e.g. at a checkpoint.
   void reseed_and_reset(uint64_t seed);
   // Steps every instance with the actions in the buffers (or resets those whose episode ended).
   void step();
@@ -78,7 +78,7 @@ class VectorEnv {
   void write_still_actions(int env_index);
   void start_episodes();  // resets every instance without reseeding
 
-  uint64_t base_seed_ = 0;  // seed of env 0 at reset()
+  uint64_t base_seed_ = 0;  // the instances' seeds at reset() derive from it
   std::vector<std::unique_ptr<Env>> envs_;
   std::vector<BehaviorBuffers> buffers_;      // one per behavior
   std::vector<StepView> views_;               // one per env

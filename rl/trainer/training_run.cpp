@@ -25,6 +25,7 @@
 #include "rl/core/sample_stats.h"
 #include "rl/curriculum/environment_parameter_manager.h"
 #include "rl/distributed/data_parallel.h"
+#include "rl/env_api/derived_seed.h"
 #include "rl/trainer/trainer_factory.h"
 
 namespace fs = std::filesystem;
@@ -142,7 +143,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     if (config_.default_settings) config_.default_settings->max_steps = options_.max_steps;
   }
   seed_ = es.seed >= 0 ? uint64_t(es.seed) : 0;
-  rank_seed_ = seed_ + uint64_t(rank()) * 0x9E3779B97F4A7C15ull;
+  rank_seed_ = derived_seed(seed_, uint64_t(rank()));
   int threads = es.num_threads > 0 ? es.num_threads : int(std::max(1u, std::thread::hardware_concurrency()));
   threads_ = threads;
   set_compute_threads(1);
@@ -343,7 +344,7 @@ double TrainingRun::elapsed() const {
 }
 
 uint64_t TrainingRun::boundary_seed(int64_t index) const {
-  return rank_seed_ + uint64_t(index) * 0x9E3779B97F4A7C15ull;
+  return derived_seed(rank_seed_, uint64_t(index));
 }
 
 TrainResult TrainingRun::train(int stop_after_boundaries) {
@@ -607,7 +608,8 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
     for (int b = 0; b < num_trainers(); ++b) trainers_[b]->interrupt_all(env_->buffers(b));
     ++lesson_resets_;
     sample_all_parameters();
-    env_->reseed_and_reset(boundary_seed(boundary_index_) ^ (uint64_t(lesson_resets_) << 40));
+    env_->reseed_and_reset(
+        derived_seed(boundary_seed(boundary_index_), uint64_t(lesson_resets_)));
     env_->stagger(config_.env_settings.stagger_steps);
     return;
   }

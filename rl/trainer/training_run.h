@@ -121,6 +121,7 @@ class TrainingRun {
   int64_t total_steps() const;
   void show_progress(bool force);
   double elapsed() const;
+  // the seed of the env's restart at update boundary `index` (derived from rank_seed_)
   uint64_t boundary_seed(int64_t index) const;
   // data-parallel: sums the ranks' new decisions into every trainer's step, decides which
   // behaviors update now (ready_), and makes the other ranks follow rank 0's lessons and ELO
@@ -133,7 +134,7 @@ class TrainingRun {
   RunConfig config_;
   TrainOptions options_;
   uint64_t seed_ = 0;
-  uint64_t rank_seed_ = 0;  // seed_ on rank 0; the env and sampling streams of the other ranks
+  uint64_t rank_seed_ = 0;  // derived_seed(seed_, rank): this rank's env and sampling streams
   std::vector<int64_t> synced_step_;  // per behavior: the steps the ranks agreed at the last sync
   std::vector<uint8_t> ready_;        // per behavior: the ranks update it now (sync_ranks)
   LessonUpdate pending_follow_;       // ranks other than 0: rank 0's lesson change, to apply

@@ -6,9 +6,11 @@
 
 #include <cstring>
 #include <random>
+#include <vector>
 
 #include "env/classic/cartpole.h"
 #include "env/register_builtin_envs.h"
+#include "rl/env_api/derived_seed.h"
 #include "rl/env_api/env_registry.h"
 
 namespace rlt {
@@ -53,7 +55,7 @@ bool same_buffers(const BehaviorBuffers& a, const BehaviorBuffers& b) {
          same_bytes(a.action_mask, b.action_mask);
 }
 
-TEST_F(VectorEnvTest, EnvIBehavesLikeAStandaloneEnvSeededBasePlusI) {
+TEST_F(VectorEnvTest, EnvIBehavesLikeAStandaloneEnvWithItsDerivedSeed) {
   const uint64_t base = 100;
   const int n = 3;
   VectorEnv venv("CartPole", n, base);
@@ -66,7 +68,7 @@ TEST_F(VectorEnvTest, EnvIBehavesLikeAStandaloneEnvSeededBasePlusI) {
   std::vector<StepView> solo_views;
   for (int i = 0; i < n; ++i) {
     solo.push_back(EnvRegistry::instance().make("CartPole"));
-    solo[i]->seed(base + i);
+    solo[i]->seed(derived_seed(base, i));
     solo_buffers.emplace_back(solo[i]->spec().behaviors[0], 1);
     solo_views.push_back({BehaviorView(&solo_buffers[i], 0)});
     solo[i]->reset(solo_views[i]);
@@ -181,7 +183,7 @@ TEST_F(VectorEnvTest, ResetAndReseedAreDeterministic) {
   venv.reset();
   const auto first = venv.buffers(0).observations[0];
   for (int t = 0; t < 5; ++t) venv.step();
-  venv.reset();  // reseeds with base_seed + i
+  venv.reset();  // reseeds every instance from base seed 10
   EXPECT_EQ(venv.buffers(0).observations[0], first);
 
   VectorEnv other("Pendulum", 3, 500);
@@ -189,6 +191,25 @@ TEST_F(VectorEnvTest, ResetAndReseedAreDeterministic) {
   venv.reseed_and_reset(500);
   EXPECT_EQ(venv.buffers(0).observations[0], other.buffers(0).observations[0]);
   EXPECT_NE(venv.buffers(0).observations[0], first);
+}
+
+// Instance seeds mixed from the base seed and the index: with base + i, seed 11's instance 0 would
+// start where seed 10's instance 1 does.
+TEST_F(VectorEnvTest, NeighbouringSeedsShareNoInstance) {
+  const int n = 4;
+  VectorEnv a("Pendulum", n, 10), b("Pendulum", n, 11);
+  a.reset();
+  b.reset();
+  const size_t width = a.spec().behaviors[0].observations[0].size();
+  auto row = [&](VectorEnv& v, int i) {
+    const auto& o = v.buffers(0).observations[0];
+    return std::vector<float>(o.begin() + i * width, o.begin() + (i + 1) * width);
+  };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      EXPECT_NE(row(a, i), row(b, j)) << "seed 10 instance " << i << ", seed 11 instance " << j;
+      if (i != j) EXPECT_NE(row(a, i), row(a, j)) << "seed 10 instances " << i << ", " << j;
+    }
 }
 
 TEST_F(VectorEnvTest, ParametersReachTheEnvsAtTheirNextReset) {
