@@ -73,6 +73,9 @@ struct HideAndSeek::Settings {
   int decision_period = 3;
   int episode_frames = 3072;
   float prep_fraction = 0.4f;
+  // frames over which the clock observation (vector [12]) runs from 0 to 1; 0 = episode_frames.
+  // A fixed clock makes a shortened episode look like the start of a full one to the agents
+  int clock_frames = 0;
   int reward_preset = 0;  // 0 paper, 1 baker
   float hide_reward = 0.001f;
   float close_reward = 0.1f;
@@ -170,6 +173,7 @@ HideAndSeek::HideAndSeek()
       {"episode_frames", 3072.f},
       {"decision_period", 3.f},
       {"prep_fraction", 0.4f},
+      {"clock_frames", 0.f},
       {"reward_preset", 0.f},
       {"hide_reward", 0.001f},
       {"hide_reward_level4", 0.0005f},
@@ -211,9 +215,12 @@ HideAndSeek::HideAndSeek()
   // SPEC section 8: chasing is dated in seeker steps, shelter in hider steps and only counts at
   // level 2 and above (level 1's single doorway is the curriculum's first lesson) with the props
   // starting at their own places (prop_start_offset 1: not placed in the openings for the hiders)
+  // in games of the full length (a curriculum may shorten the test phase of its lessons; shelter
+  // is dated in the game SPEC section 4 describes)
   spec_.strategies = {
       {"running_and_chasing", "tag_rate", "Seeker", 0.5f, 100, {}},
-      {"shelter", "fort_rate", "Hider", 0.5f, 100, {{"level", 2.f}, {"prop_start_offset", 1.f}}},
+      {"shelter", "fort_rate", "Hider", 0.5f, 100,
+       {{"level", 2.f}, {"prop_start_offset", 1.f}, {"episode_frames", 3072.f}}},
   };
   world_ = std::make_unique<drone::BulletWorld>();
 }
@@ -323,6 +330,7 @@ void HideAndSeek::build_episode() {
   s.decision_period = drone::int_parameter(*this, "decision_period", 1, drone::kMaxDecisionPeriod);
   s.episode_frames = drone::int_parameter(*this, "episode_frames", 30, kMaxEpisodeFrames);
   s.prep_fraction = drone::float_parameter(*this, "prep_fraction", 0.0f, 0.9f);
+  s.clock_frames = drone::int_parameter(*this, "clock_frames", 0, kMaxEpisodeFrames);
   s.reward_preset = drone::int_parameter(*this, "reward_preset", 0, 1);
   s.hide_reward = level_ == 4 ? parameter("hide_reward_level4") : parameter("hide_reward");
   s.close_reward = parameter("close_reward");
@@ -962,7 +970,8 @@ void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
   v[9] = std::sin(yaw);
   v[10] = std::cos(yaw);
   v[11] = props_->held_by(d) >= 0 ? 1.0f : 0.0f;
-  v[12] = clip1(static_cast<float>(frame_) / s.episode_frames);
+  const int clock = s.clock_frames > 0 ? s.clock_frames : s.episode_frames;
+  v[12] = clip1(static_cast<float>(frame_) / clock);
   v[13] = in_prep() ? 1.0f : 0.0f;
   // the nearest opponent this agent sees
   const Team other = a.team == kHider ? kSeeker : kHider;

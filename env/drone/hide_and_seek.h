@@ -107,7 +107,8 @@
 // Observations, the same four for both behaviors, every value in [-1, 1] (vector) or [0, 1]:
 //  "vector" [20]: [0, 3) position: x / half_size, 2 y / height - 1, z / half_size;
 //    [3, 6) velocity / max_speed; [6, 9) forward vector (unit, horizontal); [9, 11) sin and cos of
-//    yaw; [11] dragging flag (holds a prop); [12] frame / episode_frames; [13] prep-phase flag;
+//    yaw; [11] dragging flag (holds a prop); [12] frame / episode_frames (or / clock_frames when that is set, clipped at
+//    1); [13] prep-phase flag;
 //    [14, 17) the nearest opponent this agent sees (hider: seekers in its own cone, seeker: hiders)
 //    relative to it in its own frame (right, up, forward) / vision_range; [17] 1 when one is seen
 //    (else the three values before are 0); [18] 1 when an unlocked prop is in reach and in front

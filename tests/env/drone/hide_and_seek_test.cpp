@@ -119,6 +119,8 @@ TEST(HideAndSeekTest, BadParametersAreNamed) {
                                                   {"push_shaping", 0.6f},  // + 0.5 > 1
                                                   {"doorway_swap_chance", 1.5f},
                                                   {"doorway_swap_chance", -0.1f},
+                                                  {"clock_frames", -1.f},
+                                                  {"clock_frames", 7000.f},
                                                   {"fort_reward", NAN}}) {
     HideAndSeek env;
     env.set_parameters({{name, value}});
@@ -397,6 +399,39 @@ TEST(HideAndSeekTest, SeekersDoNotMoveInThePrepPhase) {
   for (int s = 0; s < 4; ++s)
     moved += (g.env.agent(HideAndSeek::kSeeker, s).drone->position() - start[s]).length();
   EXPECT_GT(moved, 0.5f);  // and they fly once it is over
+}
+
+// the clock observation (vector [12]) runs over the episode, or over clock_frames when that is
+// set: a shortened episode with clock_frames at the full length reads like a full one's start
+TEST(HideAndSeekTest, ClockFramesSetsTheClockObservationsScale) {
+  Game own({{"level", 1.f}, {"episode_frames", 600.f}, {"decision_period", 6.f}});
+  Game fixed({{"level", 1.f}, {"episode_frames", 600.f}, {"decision_period", 6.f},
+              {"clock_frames", 3000.f}});
+  for (Game* g : {&own, &fixed}) {
+    g->set_all(0.0f);
+    for (int i = 0; i < 50; ++i) g->harness.step();  // 300 frames
+    ASSERT_EQ(g->env.frame(), 300);
+  }
+  EXPECT_FLOAT_EQ(own.hiders().observations[0][12], 0.5f);
+  EXPECT_FLOAT_EQ(fixed.hiders().observations[0][12], 0.1f);
+  // clipped at 1 once an episode is longer than the clock
+  Game short_clock({{"level", 1.f}, {"episode_frames", 600.f}, {"decision_period", 6.f},
+                    {"clock_frames", 120.f}});
+  short_clock.set_all(0.0f);
+  for (int i = 0; i < 30; ++i) short_clock.harness.step();
+  EXPECT_FLOAT_EQ(short_clock.hiders().observations[0][12], 1.0f);
+}
+
+// shelter is dated at level 2 and above, with the props at their own places, in full games only:
+// a lesson that shortens the test phase at the own places does not count
+TEST(HideAndSeekTest, ShelterCountsFullGamesAtTheOwnPlacesFromLevelTwo) {
+  HideAndSeek env;
+  const auto& strategies = env.spec().strategies;
+  const auto shelter = std::find_if(strategies.begin(), strategies.end(),
+                                    [](const StrategySpec& s) { return s.name == "shelter"; });
+  ASSERT_NE(shelter, strategies.end());
+  EXPECT_EQ(shelter->describe_conditions(),
+            "level >= 2 and prop_start_offset >= 1 and episode_frames >= 3072");
 }
 
 TEST(HideAndSeekTest, SeekersCannotGrabOrLock) {
