@@ -71,7 +71,7 @@ const char* kind_name(drone::Tag tag) {
 // the parameters of one episode, read and checked at reset
 struct HideAndSeek::Settings {
   int decision_period = 3;
-  int episode_frames = 3072;
+  int episode_frames = kFullEpisodeFrames;
   float prep_fraction = 0.4f;
   // frames over which the clock observation (vector [12]) runs from 0 to 1; 0 = episode_frames.
   // A fixed clock makes a shortened episode look like the start of a full one to the agents
@@ -170,7 +170,7 @@ HideAndSeek::HideAndSeek()
       {"level", 1.f},
       {"num_hiders", 2.f},
       {"num_seekers", 2.f},
-      {"episode_frames", 3072.f},
+      {"episode_frames", float(kFullEpisodeFrames)},
       {"decision_period", 3.f},
       {"prep_fraction", 0.4f},
       {"clock_frames", 0.f},
@@ -220,7 +220,9 @@ HideAndSeek::HideAndSeek()
   spec_.strategies = {
       {"running_and_chasing", "tag_rate", "Seeker", 0.5f, 100, {}},
       {"shelter", "fort_rate", "Hider", 0.5f, 100,
-       {{"level", 2.f}, {"prop_start_offset", 1.f}, {"episode_frames", 3072.f}}},
+       {{"level", 2.f},
+        {"prop_start_offset", 1.f},
+        {"episode_frames", float(kFullEpisodeFrames)}}},
   };
   world_ = std::make_unique<drone::BulletWorld>();
 }

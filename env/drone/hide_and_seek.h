@@ -107,8 +107,8 @@
 // Observations, the same four for both behaviors, every value in [-1, 1] (vector) or [0, 1]:
 //  "vector" [20]: [0, 3) position: x / half_size, 2 y / height - 1, z / half_size;
 //    [3, 6) velocity / max_speed; [6, 9) forward vector (unit, horizontal); [9, 11) sin and cos of
-//    yaw; [11] dragging flag (holds a prop); [12] frame / episode_frames (or / clock_frames when that is set, clipped at
-//    1); [13] prep-phase flag;
+//    yaw; [11] dragging flag (holds a prop); [12] frame / episode_frames (or / clock_frames when
+//    that is set, clipped at 1); [13] prep-phase flag;
 //    [14, 17) the nearest opponent this agent sees (hider: seekers in its own cone, seeker: hiders)
 //    relative to it in its own frame (right, up, forward) / vision_range; [17] 1 when one is seen
 //    (else the three values before are 0); [18] 1 when an unlocked prop is in reach and in front
@@ -181,6 +181,7 @@ class HideAndSeek : public Env {
   // "objects": props, openings, the nearest teammate, own slot (see the header comment)
   static constexpr int kObjectsSize =
       kMaxProps * kPropFloats + drone::kNumOpenings * kOpeningFloats + 4 + kMaxSeekers;
+  static constexpr int kFullEpisodeFrames = 3072;  // the game's `episode_frames` (SPEC section 4)
   static constexpr int kMaxEpisodeFrames = 6144;  // largest `episode_frames`
   static constexpr int kGrabBranch = 0;           // options: 0 release, 1 hold
   static constexpr int kLockBranch = 1;           // options: 0 none, 1 lock, 2 unlock
