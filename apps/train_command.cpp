@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <iostream>
+#include <set>
 #include <thread>
 
 #include "apps/command_line.h"
@@ -17,7 +18,8 @@ const char* const kTrainHelp = R"(Usage: rlt train CONFIG [options]
 Trains every behavior of the environment named by CONFIG's env_settings.env_id with the trainer of
 its behaviors: entry. CONFIG may name a base_config (a path relative to CONFIG's folder, or
 absolute; a base may name its own): CONFIG's keys are laid over the base's, mappings merging key
-by key, a mapping over a curriculum's lessons changing the lessons it names (lesson name -> keys),
+by key, a mapping over a curriculum's lessons changing the lessons it names (lesson name -> keys;
+a new name with insert_before: NAME or insert_after: NAME adds a lesson, remove: true drops one),
 and other values (lists and null too) replacing the base's. Writes results/<run-id>/:
 configuration.yaml (the whole resolved configuration), checkpoints/, metrics/,
 <Behavior>/events.out.tfevents.* (TensorBoard, ML-Agents' tags: tensorboard --logdir results),
@@ -57,6 +59,8 @@ Options:
                          use them too when the network is large (first layer >= 65536 weights)
   --nproc N              train with N data-parallel ranks on this machine (see below)
   --dist-timeout S       seconds a rank may stay silent before the others stop (default 60)
+  --print-config         print the whole configuration CONFIG resolves to (its base_config laid
+                         under, as a run's configuration.yaml holds it) and exit; no other option
 An existing run id without --resume or --force is an error that touches nothing. A checkpoint
 or metrics row that cannot be written (a full disk) stops training with an error and leaves no
 partial file or row; --resume goes on from the newest complete checkpoint.
@@ -72,10 +76,24 @@ checkpoint.
 )";
 
 int run_train(const std::vector<std::string>& args) {
-  CommandLine cl(args, {"--resume", "--force"},
-                 {"--run-id", "--results-dir", "--initialize-from", "--num-envs", "--seed",
-                  "--max-steps", "--threads", "--param", "--nproc", "--dist-timeout"});
+  const std::set<std::string> switches = {"--resume", "--force"};
+  const std::set<std::string> options = {"--run-id",  "--results-dir", "--initialize-from",
+                                         "--num-envs", "--seed",       "--max-steps",
+                                         "--threads",  "--param",      "--nproc",
+                                         "--dist-timeout"};
+  std::set<std::string> all_switches = switches;
+  all_switches.insert("--print-config");
+  CommandLine cl(args, all_switches, options);
   if (cl.positional().size() != 1) throw UsageError("expected one CONFIG file");
+  if (cl.has("--print-config")) {
+    for (const auto* flags : {&switches, &options}) {
+      for (const std::string& flag : *flags) {
+        if (cl.has(flag)) throw UsageError("--print-config takes CONFIG alone, not " + flag);
+      }
+    }
+    std::cout << run_config_to_yaml(load_run_config(cl.positional()[0])) << std::flush;
+    return 0;
+  }
   LaunchSettings launch = launch_settings_from_environment();
   launch.timeout_seconds = cl.number("--dist-timeout", 60, 1);
   const int nproc = int(cl.integer("--nproc", 1, 1));

@@ -4,6 +4,7 @@
 
 #include <set>
 #include <utility>
+#include <vector>
 
 #include "rl/config/config_parser.h"
 
@@ -56,8 +57,90 @@ bool is_named_list(const YAML::Node& list) {
   return true;
 }
 
+// What a mapping laid over a named list does with one of its names.
+struct NamedChange {
+  std::string name;
+  YAML::Node key;      // the name's key node in the over file, for its line
+  YAML::Node keys;     // the keys to lay over the entry (or the new entry's keys)
+  std::string before;  // a new entry: the base entry it goes before ("" when after)
+  std::string after;   // a new entry: the base entry it goes after ("" when before)
+  bool remove = false;
+};
+
+// The change `value` (a mapping) makes to entry `name`, checked against the base's names.
+NamedChange read_change(const YAML::Node& key, const YAML::Node& value, const std::string& name,
+                        const std::set<std::string>& names, const std::string& listed,
+                        const std::string& path, const std::string& over_file) {
+  const std::string at = child_path(path, name);
+  if (!value.IsMap()) {
+    throw ConfigError(over_file, at, line_of(key),
+                      "a change to entry '" + name + "' of the base's list must be a mapping");
+  }
+  NamedChange change;
+  change.name = name;
+  change.key = key;
+  change.keys = YAML::Node(YAML::NodeType::Map);
+  YAML::Node remove_key;
+  for (auto it = value.begin(); it != value.end(); ++it) {
+    const std::string field = it->first.IsScalar() ? it->first.Scalar() : "";
+    if (field == "insert_before" || field == "insert_after") {
+      if (!it->second.IsScalar() || !names.count(it->second.Scalar())) {
+        throw ConfigError(over_file, child_path(at, field), line_of(it->first),
+                          field + " must name an entry of the base's list (its names: " + listed +
+                              ")");
+      }
+      if (!change.before.empty() || !change.after.empty()) {
+        throw ConfigError(over_file, child_path(at, field), line_of(it->first),
+                          "a new entry goes before one entry or after one: give insert_before "
+                          "or insert_after, not both");
+      }
+      (field == "insert_before" ? change.before : change.after) = it->second.Scalar();
+    } else if (field == "remove") {
+      bool yes = false;
+      if (!it->second.IsScalar() || !YAML::convert<bool>::decode(it->second, yes) || !yes) {
+        throw ConfigError(over_file, child_path(at, field), line_of(it->first),
+                          "remove must be true (leave it out to keep the entry)");
+      }
+      change.remove = true;
+      remove_key = it->first;
+    } else {
+      change.keys.force_insert(it->first, it->second);
+    }
+  }
+  const bool is_new = !change.before.empty() || !change.after.empty();
+  if (names.count(name) && is_new) {
+    throw ConfigError(over_file, at, line_of(key),
+                      "the base's list has an entry named '" + name +
+                          "' already; insert_before and insert_after add an entry of a new name");
+  }
+  if (!names.count(name) && !is_new) {
+    throw ConfigError(over_file, path, line_of(key),
+                      "the base's list has no entry named '" + name + "' to change (its names: " +
+                          listed + "); to add one, give it insert_before or insert_after");
+  }
+  if (change.remove && (is_new || change.keys.size() > 0)) {
+    throw ConfigError(over_file, child_path(at, "remove"), line_of(remove_key),
+                      "an entry removed takes no other keys");
+  }
+  return change;
+}
+
+// A new entry of the list: its name first, then its keys.
+YAML::Node new_entry(const NamedChange& change) {
+  YAML::Node entry(YAML::NodeType::Map);
+  entry.force_insert(YAML::Node("name"), change.key);
+  for (auto it = change.keys.begin(); it != change.keys.end(); ++it) {
+    if (!(it->first.IsScalar() && it->first.Scalar() == "name")) {
+      entry.force_insert(it->first, it->second);
+    }
+  }
+  return entry;
+}
+
 // `patches` (name -> mapping) laid over the entries of `list` that have those names; the other
-// entries are kept as they are, and the list keeps its order and length.
+// entries are kept as they are and in their order. A mapping with `insert_before: NAME` or
+// `insert_after: NAME` adds an entry of a new name next to the base's entry NAME (several next to
+// one entry keep the over file's order); `remove: true` drops the entry.
 YAML::Node patch_by_name(const YAML::Node& list, const KeyOrigins& under_origins,
                          const YAML::Node& patches, const std::string& path,
                          const std::string& over_file, KeyOrigins* origins) {
@@ -67,34 +150,44 @@ YAML::Node patch_by_name(const YAML::Node& list, const KeyOrigins& under_origins
     names.insert(name_of(entry));
     listed += (listed.empty() ? "'" : ", '") + name_of(entry) + "'";
   }
-  std::set<std::string> patched;
+  std::vector<NamedChange> changes;
+  std::set<std::string> seen;
   for (auto it = patches.begin(); it != patches.end(); ++it) {
     const std::string name = it->first.IsScalar() ? it->first.Scalar() : "";
-    if (!patched.insert(name).second) {
+    if (!seen.insert(name).second) {
       throw ConfigError(over_file, path, line_of(it->first), "entry '" + name + "' appears twice");
     }
-    if (!names.count(name)) {
-      throw ConfigError(over_file, path, line_of(it->first),
-                        "the base's list has no entry named '" + name +
-                            "' to change (its names: " + listed + ")");
-    }
-    if (!it->second.IsMap()) {
-      throw ConfigError(over_file, child_path(path, name), line_of(it->first),
-                        "a change to entry '" + name + "' of the base's list must be a mapping");
-    }
+    changes.push_back(read_change(it->first, it->second, name, names, listed, path, over_file));
   }
   YAML::Node result(YAML::NodeType::Sequence);
-  for (size_t i = 0; i < list.size(); ++i) {
-    const std::string at = path + "[" + std::to_string(i) + "]";
-    const YAML::Node patch = find_entry(patches, name_of(list[i])).second;
-    if (!patch.IsDefined()) {
-      result.push_back(list[i]);
-      origins->take_subtree(at, under_origins);
-      continue;
+  // Entries the over file adds next to base entry `name`: before it or after it.
+  const auto insert_next_to = [&](const std::string& name, bool before) {
+    for (const NamedChange& change : changes) {
+      if ((before ? change.before : change.after) == name) result.push_back(new_entry(change));
     }
-    YAML::Node merged(YAML::NodeType::Map);
-    lay_over_at(list[i], under_origins, patch, at, over_file, origins, &merged);
-    result.push_back(merged);
+  };
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string name = name_of(list[i]);
+    insert_next_to(name, true);
+    const NamedChange* change = nullptr;
+    for (const NamedChange& c : changes) {
+      if (c.name == name) change = &c;
+    }
+    if (change == nullptr || !change->remove) {
+      // The base's entry i is entry `at` of the result: its origins move with it.
+      const std::string at = path + "[" + std::to_string(result.size()) + "]";
+      const KeyOrigins entry_origins =
+          under_origins.moved(path + "[" + std::to_string(i) + "]", at);
+      if (change == nullptr) {
+        result.push_back(list[i]);
+        origins->take_subtree(at, entry_origins);
+      } else {
+        YAML::Node merged(YAML::NodeType::Map);
+        lay_over_at(list[i], entry_origins, change->keys, at, over_file, origins, &merged);
+        result.push_back(merged);
+      }
+    }
+    insert_next_to(name, false);
   }
   return result;
 }
@@ -156,6 +249,18 @@ const std::string& KeyOrigins::file_of(const std::string& key_path) const {
     }
   }
   return *best;
+}
+
+KeyOrigins KeyOrigins::moved(const std::string& from_path, const std::string& to_path) const {
+  KeyOrigins out(top_file_);
+  for (const auto& [path, file] : files_) {
+    if (!is_within(path, from_path) && !is_within(path, to_path)) out.files_[path] = file;
+  }
+  out.files_[to_path] = file_of(from_path);
+  for (const auto& [path, file] : files_) {
+    if (is_within(path, from_path)) out.files_[to_path + path.substr(from_path.size())] = file;
+  }
+  return out;
 }
 
 void KeyOrigins::take_subtree(const std::string& key_path, const KeyOrigins& from) {

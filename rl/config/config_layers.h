@@ -1,7 +1,8 @@
 // Layering one run configuration over another: a file that names a `base_config` holds only what
 // it changes, and its keys are laid over the base's. Mappings merge key by key at every depth;
 // a mapping laid over a list of named mappings (a curriculum's lessons) changes the entries it
-// names (lesson name -> the lesson's keys to lay over), keeping the list's order and the rest;
+// names (lesson name -> the lesson's keys to lay over), keeping the list's order and the rest,
+// and adds (`insert_before: NAME` or `insert_after: NAME`) or drops (`remove: true`) entries;
 // anything else (a scalar, a list, null) replaces the base's value whole. Our extension:
 // ML-Agents has no base files.
 #pragma once
@@ -27,6 +28,10 @@ class KeyOrigins {
 
   // The subtree at `key_path` is `from`'s subtree there, with the files `from` gives its parts.
   void take_subtree(const std::string& key_path, const KeyOrigins& from);
+
+  // These origins with the subtree at `from_path` moved to `to_path` (a list entry that changed
+  // its index), whatever was at `to_path` dropped.
+  KeyOrigins moved(const std::string& from_path, const std::string& to_path) const;
 
  private:
   std::string top_file_;

@@ -202,6 +202,30 @@ TEST_F(RltCliTest, TrainWritesTheRunFolder) {
   EXPECT_GE(rows, 1);
 }
 
+TEST_F(RltCliTest, PrintConfigShowsTheLayeredConfigurationAndTrainsNothing) {
+  const fs::path folder = root_ / "print_config";
+  fs::create_directories(folder);
+  write_file(folder / "base.yaml", cartpole_config());
+  write_file(folder / "child.yaml",
+             "base_config: base.yaml\nbehaviors:\n  CartPole:\n    max_steps: 777\n");
+  Result r = rlt("train child.yaml --print-config", folder);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("max_steps: 777"), std::string::npos) << r.out;  // the child's
+  EXPECT_NE(r.out.find("env_id: CartPole"), std::string::npos) << r.out;  // the base's
+  EXPECT_EQ(r.out.find("base_config"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(folder / "results"));  // nothing trained
+  // what it prints is a configuration of its own, read back to the same text
+  write_file(folder / "printed.yaml", r.out);
+  EXPECT_EQ(rlt("train printed.yaml --print-config", folder).out, r.out);
+  // options it would not apply are an error naming them
+  r = rlt("train child.yaml --print-config --seed 3", folder);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--print-config takes CONFIG alone, not --seed"), std::string::npos) << r.err;
+  r = rlt("train missing.yaml --print-config", folder);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("missing.yaml"), std::string::npos) << r.err;
+}
+
 TEST_F(RltCliTest, ExistingRunIdWithoutResumeOrForceTouchesNothing) {
   const fs::path& run = trained_run();
   auto snapshot = [&] {

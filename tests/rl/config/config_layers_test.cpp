@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "rl/config/config_parser.h"
 
@@ -179,6 +180,119 @@ environment_parameters:
   EXPECT_EQ(error.key_path(), "environment_parameters.level.curriculum[0].completion_criteria.threshold")
       << error.what();
   EXPECT_EQ(error.line(), 6) << error.what();
+}
+
+TEST(ConfigLayersTest, AMappingOverTheLessonsAddsAndRemovesLessons) {
+  TempFolder folder;
+  folder.write("base.yaml", kBase);
+  const std::string child = folder.write("child.yaml", R"(base_config: base.yaml
+environment_parameters:
+  level:
+    curriculum:
+      hardest:
+        insert_after: hard
+        value: 3
+      medium:
+        insert_before: hard
+        value: 1.5
+        completion_criteria: {behavior: Runner, measure: reward, threshold: 0.7}
+      warmup:
+        insert_before: easy
+        value: 0
+        completion_criteria: {behavior: Chaser, measure: reward, threshold: 0.2}
+      medium_too:
+        insert_before: hard
+        value: 1.8
+        completion_criteria: {behavior: Runner, measure: reward, threshold: 0.8}
+      easy:
+        remove: true
+      hard:
+        completion_criteria: {behavior: Runner, measure: reward, threshold: 0.9}
+)");
+  const RunConfig config = load_run_config(child);
+  const auto& lessons = config.environment_parameters.at("level").curriculum;
+  std::vector<std::string> names;
+  for (const auto& lesson : lessons) names.push_back(lesson.name);
+  // the base's order with easy gone; two before one entry keep the child's order
+  EXPECT_EQ(names, (std::vector<std::string>{"warmup", "medium", "medium_too", "hard", "hardest"}));
+  ASSERT_EQ(lessons.size(), 5u);
+  EXPECT_EQ(lessons[0].value.value, 0.0f);
+  EXPECT_EQ(lessons[0].completion_criteria->behavior, "Chaser");
+  EXPECT_EQ(lessons[1].value.value, 1.5f);
+  EXPECT_FLOAT_EQ(lessons[2].completion_criteria->threshold, 0.8f);
+  EXPECT_EQ(lessons[3].value.value, 2.0f);  // the base's hard, changed by the child
+  EXPECT_FLOAT_EQ(lessons[3].completion_criteria->threshold, 0.9f);
+  EXPECT_EQ(lessons[4].value.value, 3.0f);
+  EXPECT_FALSE(lessons[4].completion_criteria.has_value());
+
+  // A lesson that moved keeps the file of its values: the middle file gives easy a fallback, the
+  // top one inserts a lesson before easy (index 0 -> 1) and lowers easy's threshold under it.
+  folder.write("middle.yaml", R"(base_config: base.yaml
+environment_parameters:
+  level:
+    curriculum:
+      easy:
+        completion_criteria: {fallback_threshold: 0.1}
+)");
+  const std::string top = folder.write("top.yaml", R"(base_config: middle.yaml
+environment_parameters:
+  level:
+    curriculum:
+      warmup:
+        insert_before: easy
+        value: 0
+        completion_criteria: {behavior: Runner, measure: reward, threshold: 0.2}
+      easy:
+        completion_criteria: {threshold: 0.05}
+)");
+  ConfigError error = load_error(top);
+  EXPECT_EQ(error.file(), folder.path("middle.yaml")) << error.what();
+  EXPECT_EQ(error.key_path(), "environment_parameters.level.curriculum[1].completion_criteria."
+                              "fallback_threshold") << error.what();
+  EXPECT_EQ(error.line(), 6) << error.what();
+  // a problem in an inserted lesson names the child's line
+  const std::string bad_value = folder.write("bad_value.yaml", R"(base_config: base.yaml
+environment_parameters:
+  level:
+    curriculum:
+      warmup:
+        insert_after: easy
+        value: lots
+)");
+  error = load_error(bad_value);
+  EXPECT_EQ(error.file(), bad_value) << error.what();
+  EXPECT_EQ(error.key_path(), "environment_parameters.level.curriculum[1].value") << error.what();
+  EXPECT_EQ(error.line(), 7) << error.what();
+
+  // Bad changes, each named with the child's file and line.
+  struct BadChange {
+    std::string lessons;  // the curriculum mapping, indented six spaces
+    int line;
+    std::string problem;
+  };
+  const std::vector<BadChange> bad = {
+      {"      warmup:\n        value: 0\n", 5, "to add one, give it insert_before or insert_after"},
+      {"      warmup:\n        insert_before: hardest\n        value: 0\n", 6,
+       "insert_before must name an entry of the base's list (its names: 'easy', 'hard')"},
+      {"      warmup:\n        insert_after: [easy]\n        value: 0\n", 6,
+       "insert_after must name an entry"},
+      {"      warmup:\n        insert_before: easy\n        insert_after: hard\n        value: 0\n",
+       7, "not both"},
+      {"      hard:\n        insert_before: easy\n", 5, "has an entry named 'hard' already"},
+      {"      hard:\n        remove: false\n", 6, "remove must be true"},
+      {"      hard:\n        remove: yes please\n", 6, "remove must be true"},
+      {"      hard:\n        remove: true\n        value: 4\n", 6, "takes no other keys"},
+  };
+  for (size_t i = 0; i < bad.size(); ++i) {
+    const std::string file = folder.write(
+        "bad" + std::to_string(i) + ".yaml",
+        "base_config: base.yaml\nenvironment_parameters:\n  level:\n    curriculum:\n" +
+            bad[i].lessons);
+    error = load_error(file);
+    EXPECT_EQ(error.file(), file) << error.what();
+    EXPECT_EQ(error.line(), bad[i].line) << error.what();
+    EXPECT_NE(error.problem().find(bad[i].problem), std::string::npos) << error.what();
+  }
 }
 
 TEST(ConfigLayersTest, BasesChainAndAnAbsolutePathWorks) {
