@@ -59,8 +59,10 @@ Options:
                          use them too when the network is large (first layer >= 65536 weights)
   --nproc N              train with N data-parallel ranks on this machine (see below)
   --dist-timeout S       seconds a rank may stay silent before the others stop (default 60)
-  --print-config         print the whole configuration CONFIG resolves to (its base_config laid
-                         under, as a run's configuration.yaml holds it) and exit; no other option
+  --print-config         print the whole configuration CONFIG resolves to, its base_config laid
+                         under, and exit (takes no other option; a run's configuration.yaml also
+                         holds the options given and, with default_settings, the env's other
+                         behaviors; the env does not check the lessons' values here)
 An existing run id without --resume or --force is an error that touches nothing. A checkpoint
 or metrics row that cannot be written (a full disk) stops training with an error and leaves no
 partial file or row; --resume goes on from the newest complete checkpoint.
@@ -85,14 +87,13 @@ int run_train(const std::vector<std::string>& args) {
   all_switches.insert("--print-config");
   CommandLine cl(args, all_switches, options);
   if (cl.positional().size() != 1) throw UsageError("expected one CONFIG file");
-  if (cl.has("--print-config")) {
+  const bool print_config = cl.has("--print-config");
+  if (print_config) {
     for (const auto* flags : {&switches, &options}) {
       for (const std::string& flag : *flags) {
         if (cl.has(flag)) throw UsageError("--print-config takes CONFIG alone, not " + flag);
       }
     }
-    std::cout << run_config_to_yaml(load_run_config(cl.positional()[0])) << std::flush;
-    return 0;
   }
   LaunchSettings launch = launch_settings_from_environment();
   launch.timeout_seconds = cl.number("--dist-timeout", 60, 1);
@@ -125,6 +126,10 @@ int run_train(const std::vector<std::string>& args) {
       known += (known.empty() ? "" : ", ") + name;
     throw ConfigError(config.source_file, "env_settings.env_id", 0,
                       "unknown environment '" + env_id + "' (known: " + known + ")");
+  }
+  if (print_config) {
+    std::cout << run_config_to_yaml(config) << std::flush;
+    return 0;
   }
   std::unique_ptr<Communicator> communicator;
   if (launch.distributed()) communicator = connect_gloo(launch);

@@ -2,11 +2,13 @@
 // builds new mappings only where both trees have one and reuses every other node as it is.
 #include "rl/config/config_layers.h"
 
+#include <optional>
 #include <set>
 #include <utility>
 #include <vector>
 
 #include "rl/config/config_parser.h"
+#include "rl/config/yaml_scalars.h"
 
 namespace rlt {
 
@@ -76,13 +78,27 @@ NamedChange read_change(const YAML::Node& key, const YAML::Node& value, const st
     throw ConfigError(over_file, at, line_of(key),
                       "a change to entry '" + name + "' of the base's list must be a mapping");
   }
+  if (name.empty()) {
+    throw ConfigError(over_file, path, line_of(key), "an entry's name must not be empty");
+  }
   NamedChange change;
   change.name = name;
   change.key = key;
+  // the keys to lay over or to make the entry of, less those that say what to do with it; the
+  // nodes are over's own, so each keeps its line (YAML::Clone would lose them)
   change.keys = YAML::Node(YAML::NodeType::Map);
+  std::set<std::string> fields;
   YAML::Node remove_key;
   for (auto it = value.begin(); it != value.end(); ++it) {
     const std::string field = it->first.IsScalar() ? it->first.Scalar() : "";
+    if (!fields.insert(field).second) {
+      throw ConfigError(over_file, at, line_of(it->first), "key '" + field + "' appears twice");
+    }
+    if (field == "name") {
+      throw ConfigError(over_file, child_path(at, field), line_of(it->first),
+                        "an entry's name is its key here ('" + name +
+                            "'); it cannot be given or changed");
+    }
     if (field == "insert_before" || field == "insert_after") {
       if (!it->second.IsScalar() || !names.count(it->second.Scalar())) {
         throw ConfigError(over_file, child_path(at, field), line_of(it->first),
@@ -96,8 +112,7 @@ NamedChange read_change(const YAML::Node& key, const YAML::Node& value, const st
       }
       (field == "insert_before" ? change.before : change.after) = it->second.Scalar();
     } else if (field == "remove") {
-      bool yes = false;
-      if (!it->second.IsScalar() || !YAML::convert<bool>::decode(it->second, yes) || !yes) {
+      if (plain_bool(it->second) != std::optional<bool>(true)) {
         throw ConfigError(over_file, child_path(at, field), line_of(it->first),
                           "remove must be true (leave it out to keep the entry)");
       }
@@ -125,14 +140,12 @@ NamedChange read_change(const YAML::Node& key, const YAML::Node& value, const st
   return change;
 }
 
-// A new entry of the list: its name first, then its keys.
+// A new entry of the list: its name (the key's node, with its line), then its keys.
 YAML::Node new_entry(const NamedChange& change) {
   YAML::Node entry(YAML::NodeType::Map);
   entry.force_insert(YAML::Node("name"), change.key);
   for (auto it = change.keys.begin(); it != change.keys.end(); ++it) {
-    if (!(it->first.IsScalar() && it->first.Scalar() == "name")) {
-      entry.force_insert(it->first, it->second);
-    }
+    entry.force_insert(it->first, it->second);
   }
   return entry;
 }
@@ -146,9 +159,14 @@ YAML::Node patch_by_name(const YAML::Node& list, const KeyOrigins& under_origins
                          const std::string& over_file, KeyOrigins* origins) {
   std::set<std::string> names;
   std::string listed;
-  for (const YAML::Node& entry : list) {
-    names.insert(name_of(entry));
-    listed += (listed.empty() ? "'" : ", '") + name_of(entry) + "'";
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string at = path + "[" + std::to_string(i) + "]";
+    if (!names.insert(name_of(list[i])).second) {
+      throw ConfigError(under_origins.file_of(at), child_path(at, "name"), line_of(list[i]),
+                        "a second entry named '" + name_of(list[i]) +
+                            "': a list changed by name needs names that differ");
+    }
+    listed += (listed.empty() ? "'" : ", '") + name_of(list[i]) + "'";
   }
   std::vector<NamedChange> changes;
   std::set<std::string> seen;

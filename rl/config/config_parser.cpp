@@ -4,6 +4,7 @@
 #include "rl/config/config_parser.h"
 
 #include "rl/config/config_layers.h"
+#include "rl/config/yaml_scalars.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -169,11 +170,6 @@ std::string format_float(double value, bool single_precision) {
 int line_of(const YAML::Node& node) {
   const YAML::Mark mark = node.Mark();
   return mark.is_null() ? 0 : mark.line + 1;
-}
-
-// A scalar the author wrote as a string: quoted, or tagged !!str.
-bool is_quoted(const YAML::Node& node) {
-  return node.IsScalar() && (node.Tag() == "!" || node.Tag() == "tag:yaml.org,2002:str");
 }
 
 // How a value reads in a message: 'abc', the string "64", a list, a mapping, null.
@@ -461,14 +457,7 @@ float Parser::read_float(const Val& value, const RealRange& range) const {
 }
 
 bool Parser::read_bool(const Val& value) const {
-  static const std::set<std::string> kTrue = {"true", "True", "TRUE", "yes", "Yes",
-                                              "YES",  "on",   "On",   "ON"};
-  static const std::set<std::string> kFalse = {"false", "False", "FALSE", "no", "No",
-                                               "NO",    "off",   "Off",   "OFF"};
-  if (value.node.IsScalar() && !is_quoted(value.node)) {
-    if (kTrue.count(value.node.Scalar())) return true;
-    if (kFalse.count(value.node.Scalar())) return false;
-  }
+  if (const std::optional<bool> b = plain_bool(value.node)) return *b;
   fail_expected(value, "true or false");
 }
 

@@ -263,6 +263,35 @@ environment_parameters:
   EXPECT_EQ(error.file(), bad_value) << error.what();
   EXPECT_EQ(error.key_path(), "environment_parameters.level.curriculum[1].value") << error.what();
   EXPECT_EQ(error.line(), 7) << error.what();
+  const std::string bad_criteria = folder.write("bad_criteria.yaml", R"(base_config: base.yaml
+environment_parameters:
+  level:
+    curriculum:
+      warmup:
+        insert_before: easy
+        value: 0
+        completion_criteria: {behavior: Runner, measure: reward, threshold: lots}
+)");
+  error = load_error(bad_criteria);
+  EXPECT_EQ(error.file(), bad_criteria) << error.what();
+  EXPECT_EQ(error.key_path(), "environment_parameters.level.curriculum[0].completion_criteria.threshold")
+      << error.what();
+  EXPECT_EQ(error.line(), 8) << error.what();
+
+  // a base list with two entries of one name cannot be changed by name: the base's line
+  std::string twice(kBase);
+  twice.replace(twice.find("- name: hard"), 12, "- name: easy");
+  const std::string twice_base = folder.write("twice_base.yaml", twice);
+  error = load_error(folder.write("twice.yaml", R"(base_config: twice_base.yaml
+environment_parameters:
+  level:
+    curriculum:
+      easy:
+        value: 3
+)"));
+  EXPECT_EQ(error.file(), twice_base) << error.what();
+  EXPECT_EQ(error.line(), 20) << error.what();
+  EXPECT_NE(error.problem().find("a second entry named 'easy'"), std::string::npos) << error.what();
 
   // Bad changes, each named with the child's file and line.
   struct BadChange {
@@ -282,6 +311,15 @@ environment_parameters:
       {"      hard:\n        remove: false\n", 6, "remove must be true"},
       {"      hard:\n        remove: yes please\n", 6, "remove must be true"},
       {"      hard:\n        remove: true\n        value: 4\n", 6, "takes no other keys"},
+      {"      hard:\n        remove: \"true\"\n", 6, "remove must be true"},
+      {"      hard:\n        remove: y\n", 6, "remove must be true"},
+      {"      hard:\n        remove: true\n        remove: true\n", 7, "key 'remove' appears twice"},
+      {"      warmup:\n        insert_before: easy\n        insert_before: hard\n", 7,
+       "key 'insert_before' appears twice"},
+      {"      warmup:\n        insert_before: easy\n        name: cooldown\n", 7,
+       "an entry's name is its key here ('warmup')"},
+      {"      hard:\n        name: hardest\n", 6, "cannot be given or changed"},
+      {"      \"\":\n        insert_before: easy\n", 5, "an entry's name must not be empty"},
   };
   for (size_t i = 0; i < bad.size(); ++i) {
     const std::string file = folder.write(
