@@ -271,9 +271,6 @@ const std::string& KeyOrigins::file_of(const std::string& key_path) const {
 
 KeyOrigins KeyOrigins::moved(const std::string& from_path, const std::string& to_path) const {
   KeyOrigins out(top_file_);
-  for (const auto& [path, file] : files_) {
-    if (!is_within(path, from_path) && !is_within(path, to_path)) out.files_[path] = file;
-  }
   out.files_[to_path] = file_of(from_path);
   for (const auto& [path, file] : files_) {
     if (is_within(path, from_path)) out.files_[to_path + path.substr(from_path.size())] = file;

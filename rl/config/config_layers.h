@@ -29,8 +29,8 @@ class KeyOrigins {
   // The subtree at `key_path` is `from`'s subtree there, with the files `from` gives its parts.
   void take_subtree(const std::string& key_path, const KeyOrigins& from);
 
-  // These origins with the subtree at `from_path` moved to `to_path` (a list entry that changed
-  // its index), whatever was at `to_path` dropped.
+  // The origins of the subtree at `from_path` alone, moved to `to_path` (a list entry that
+  // changed its index): what take_subtree(to_path, ...) needs, and nothing outside it.
   KeyOrigins moved(const std::string& from_path, const std::string& to_path) const;
 
  private:

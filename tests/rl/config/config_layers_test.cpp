@@ -182,14 +182,16 @@ environment_parameters:
   EXPECT_EQ(error.line(), 6) << error.what();
 }
 
+// A file over `base` that changes its curriculum: `lessons`, the mapping, indented six spaces.
+std::string over_lessons(const std::string& base, const std::string& lessons) {
+  return "base_config: " + base + "\nenvironment_parameters:\n  level:\n    curriculum:\n" +
+         lessons;
+}
+
 TEST(ConfigLayersTest, AMappingOverTheLessonsAddsAndRemovesLessons) {
   TempFolder folder;
   folder.write("base.yaml", kBase);
-  const std::string child = folder.write("child.yaml", R"(base_config: base.yaml
-environment_parameters:
-  level:
-    curriculum:
-      hardest:
+  const std::string child = folder.write("child.yaml", over_lessons("base.yaml", R"(      hardest:
         insert_after: hard
         value: 3
       medium:
@@ -208,7 +210,7 @@ environment_parameters:
         remove: true
       hard:
         completion_criteria: {behavior: Runner, measure: reward, threshold: 0.9}
-)");
+)"));
   const RunConfig config = load_run_config(child);
   const auto& lessons = config.environment_parameters.at("level").curriculum;
   std::vector<std::string> names;
@@ -227,54 +229,43 @@ environment_parameters:
 
   // A lesson that moved keeps the file of its values: the middle file gives easy a fallback, the
   // top one inserts a lesson before easy (index 0 -> 1) and lowers easy's threshold under it.
-  folder.write("middle.yaml", R"(base_config: base.yaml
-environment_parameters:
-  level:
-    curriculum:
-      easy:
+  folder.write("middle.yaml", over_lessons("base.yaml", R"(      easy:
         completion_criteria: {fallback_threshold: 0.1}
-)");
-  const std::string top = folder.write("top.yaml", R"(base_config: middle.yaml
-environment_parameters:
-  level:
-    curriculum:
-      warmup:
+)"));
+  const std::string top = folder.write("top.yaml", over_lessons("middle.yaml", R"(      warmup:
         insert_before: easy
         value: 0
         completion_criteria: {behavior: Runner, measure: reward, threshold: 0.2}
       easy:
         completion_criteria: {threshold: 0.05}
-)");
+)"));
   ConfigError error = load_error(top);
   EXPECT_EQ(error.file(), folder.path("middle.yaml")) << error.what();
-  EXPECT_EQ(error.key_path(), "environment_parameters.level.curriculum[1].completion_criteria."
-                              "fallback_threshold") << error.what();
+  EXPECT_EQ(error.key_path(),
+            "environment_parameters.level.curriculum[1].completion_criteria."
+            "fallback_threshold")
+      << error.what();
   EXPECT_EQ(error.line(), 6) << error.what();
   // a problem in an inserted lesson names the child's line
-  const std::string bad_value = folder.write("bad_value.yaml", R"(base_config: base.yaml
-environment_parameters:
-  level:
-    curriculum:
-      warmup:
+  const std::string bad_value =
+      folder.write("bad_value.yaml", over_lessons("base.yaml", R"(      warmup:
         insert_after: easy
         value: lots
-)");
+)"));
   error = load_error(bad_value);
   EXPECT_EQ(error.file(), bad_value) << error.what();
   EXPECT_EQ(error.key_path(), "environment_parameters.level.curriculum[1].value") << error.what();
   EXPECT_EQ(error.line(), 7) << error.what();
-  const std::string bad_criteria = folder.write("bad_criteria.yaml", R"(base_config: base.yaml
-environment_parameters:
-  level:
-    curriculum:
-      warmup:
+  const std::string bad_criteria =
+      folder.write("bad_criteria.yaml", over_lessons("base.yaml", R"(      warmup:
         insert_before: easy
         value: 0
         completion_criteria: {behavior: Runner, measure: reward, threshold: lots}
-)");
+)"));
   error = load_error(bad_criteria);
   EXPECT_EQ(error.file(), bad_criteria) << error.what();
-  EXPECT_EQ(error.key_path(), "environment_parameters.level.curriculum[0].completion_criteria.threshold")
+  EXPECT_EQ(error.key_path(),
+            "environment_parameters.level.curriculum[0].completion_criteria.threshold")
       << error.what();
   EXPECT_EQ(error.line(), 8) << error.what();
 
@@ -282,13 +273,9 @@ environment_parameters:
   std::string twice(kBase);
   twice.replace(twice.find("- name: hard"), 12, "- name: easy");
   const std::string twice_base = folder.write("twice_base.yaml", twice);
-  error = load_error(folder.write("twice.yaml", R"(base_config: twice_base.yaml
-environment_parameters:
-  level:
-    curriculum:
-      easy:
+  error = load_error(folder.write("twice.yaml", over_lessons("twice_base.yaml", R"(      easy:
         value: 3
-)"));
+)")));
   EXPECT_EQ(error.file(), twice_base) << error.what();
   EXPECT_EQ(error.line(), 20) << error.what();
   EXPECT_NE(error.problem().find("a second entry named 'easy'"), std::string::npos) << error.what();
@@ -313,7 +300,8 @@ environment_parameters:
       {"      hard:\n        remove: true\n        value: 4\n", 6, "takes no other keys"},
       {"      hard:\n        remove: \"true\"\n", 6, "remove must be true"},
       {"      hard:\n        remove: y\n", 6, "remove must be true"},
-      {"      hard:\n        remove: true\n        remove: true\n", 7, "key 'remove' appears twice"},
+      {"      hard:\n        remove: true\n        remove: true\n", 7,
+       "key 'remove' appears twice"},
       {"      warmup:\n        insert_before: easy\n        insert_before: hard\n", 7,
        "key 'insert_before' appears twice"},
       {"      warmup:\n        insert_before: easy\n        name: cooldown\n", 7,
@@ -322,10 +310,8 @@ environment_parameters:
       {"      \"\":\n        insert_before: easy\n", 5, "an entry's name must not be empty"},
   };
   for (size_t i = 0; i < bad.size(); ++i) {
-    const std::string file = folder.write(
-        "bad" + std::to_string(i) + ".yaml",
-        "base_config: base.yaml\nenvironment_parameters:\n  level:\n    curriculum:\n" +
-            bad[i].lessons);
+    const std::string file = folder.write("bad" + std::to_string(i) + ".yaml",
+                                          over_lessons("base.yaml", bad[i].lessons));
     error = load_error(file);
     EXPECT_EQ(error.file(), file) << error.what();
     EXPECT_EQ(error.line(), bad[i].line) << error.what();
