@@ -171,7 +171,10 @@ std::vector<Figure> learning_curve_figures(const std::vector<RunCurves>& runs, d
                       update_panel("baseline_loss", "Baseline loss (MA-POCA)", "loss", true)}});
   figures.push_back({"policy",
                      {update_panel("entropy", "Policy entropy", "entropy", false),
-                      update_panel("learning_rate", "Learning rate", "learning rate", false)}});
+                      update_panel("learning_rate", "Learning rate", "learning rate", false),
+                      update_panel("approx_kl", "Approximate KL from the collecting policy",
+                                   "KL", false),
+                      update_panel("clip_fraction", "Clip fraction", "share of rows", false)}});
   figures.push_back({"elo", {update_panel("elo", "Self-play ELO", "ELO", false)}});
 
   // run-wide columns of metrics/episodes.csv

@@ -182,7 +182,7 @@ UpdateStats PocaTrainer::update() {
                           1);  // [N, 5]
 
   const int64_t bs = local_batch_size(), batches = agreed_batches(n);  // this rank's share
-  double sums[4] = {0, 0, 0, 0};  // policy, value, baseline, entropy
+  double sums[6] = {0, 0, 0, 0, 0, 0};  // policy, value, baseline, entropy, KL, clip fraction
   for (int epoch = 0; epoch < hp.num_epoch; ++epoch) {
     auto perm = permutation(n);
     auto idx = torch::from_blob(perm.data(), {n}, torch::kInt64);
@@ -227,6 +227,8 @@ UpdateStats PocaTrainer::update() {
       sums[1] += l.value.item<float>();
       sums[2] += baseline_loss.item<float>();
       sums[3] += l.entropy.item<float>();
+      sums[4] += l.approx_kl.item<float>();
+      sums[5] += l.clip_fraction.item<float>();
     }
   }
   const double count = std::max<int64_t>(1, batches * hp.num_epoch);
@@ -234,6 +236,8 @@ UpdateStats PocaTrainer::update() {
   stats.value_loss = float(sums[1] / count);
   stats.baseline_loss = float(sums[2] / count);
   stats.entropy = float(sums[3] / count);
+  stats.approx_kl = float(sums[4] / count);
+  stats.clip_fraction = float(sums[5] / count);
   {
     // critic: value over 1 + U members, baseline over the own observation and U (obs, action)
     // pairs; each with embeddings, 4 attention projections per member, the MLP and the head

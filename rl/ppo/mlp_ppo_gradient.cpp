@@ -155,11 +155,14 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   Eigen::VectorXf g(B), dv(B);  // d total / d log_prob, d total / d value
   for (int64_t i = 0; i < B; ++i) {
     const double adv = old(i, 1);
-    const double ratio = std::exp(float(log_prob[i]) - old(i, 0));
+    const double log_ratio = float(log_prob[i]) - old(i, 0);
+    const double ratio = std::exp(log_ratio);
     const double clipped = std::clamp(ratio, 1.0 - epsilon, 1.0 + epsilon);
     const double s1 = ratio * adv, s2 = clipped * adv;
     out.policy -= std::min(s1, s2) / B;
+    out.approx_kl += (ratio - 1.0 - log_ratio) / B;
     const bool in_range = ratio >= 1.0 - epsilon && ratio <= 1.0 + epsilon;
+    if (std::abs(ratio - 1.0) > epsilon) out.clip_fraction += 1.0 / B;
     const double d_min = share(s1 < s2, s1 == s2) * ratio * adv +
                          share(s2 < s1, s1 == s2) * (in_range ? ratio * adv : 0.0);
     g[i] = float(-d_min / B);

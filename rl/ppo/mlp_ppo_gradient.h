@@ -36,6 +36,7 @@ struct MinibatchView {
 
 struct LossValues {
   double policy = 0, value = 0, entropy = 0, total = 0;
+  double approx_kl = 0, clip_fraction = 0;  // as ppo_loss() (no gradient)
 };
 
 class MlpPpoGradient {

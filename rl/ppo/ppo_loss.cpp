@@ -20,6 +20,12 @@ PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_pro
   out.value = clipped_value_loss(values, old_values, returns, epsilon);
   out.entropy = entropy.mean();
   out.total = out.policy + value_loss_coef * out.value - beta * out.entropy;
+  {
+    torch::NoGradGuard no_grad;
+    auto log_ratio = log_prob - old_log_prob;                      // [B]
+    out.approx_kl = (torch::exp(log_ratio) - 1 - log_ratio).mean();
+    out.clip_fraction = ((ratio - 1).abs() > epsilon).to(torch::kFloat).mean();
+  }
   return out;
 }
 

@@ -2,6 +2,9 @@
 //   policy = -mean(min(r A, clip(r, 1 - eps, 1 + eps) A)),  r = exp(log_prob - old_log_prob)
 //   value  = mean(max((R - V)^2, (R - V_clip)^2)),          V_clip = V_old + clip(V - V_old, -eps, eps)
 //   total  = policy + c value - beta mean(entropy)    (c = value_loss_coef, ML-Agents: 0.5)
+// and, to watch how far an update moves the policy (no gradient): the approximate KL divergence
+// from the old policy, mean((r - 1) - log r) (Schulman's low-variance estimator, never negative),
+// and the clip fraction, the share of rows with |r - 1| > eps.
 #pragma once
 
 #include <torch/torch.h>
@@ -13,6 +16,8 @@ struct PpoLoss {
   torch::Tensor value;    // []
   torch::Tensor entropy;  // [] mean entropy
   torch::Tensor total;    // []
+  torch::Tensor approx_kl;      // [] no gradient
+  torch::Tensor clip_fraction;  // [] no gradient
 };
 
 // mean(max((R - V)^2, (R - V_clip)^2)); every argument is [B]

@@ -64,7 +64,7 @@ UpdateStats PpoTrainer::update() {
 
   const int64_t bs = local_batch_size();  // batch_size, or this rank's share of it
   const int64_t batches = agreed_batches(n);
-  double sum_policy = 0, sum_value = 0, sum_entropy = 0;
+  double sum_policy = 0, sum_value = 0, sum_entropy = 0, sum_kl = 0, sum_clipped = 0;
   for (int epoch = 0; epoch < hp.num_epoch; ++epoch) {
     // one gather per tensor and epoch; minibatches are slices
     auto perm = permutation(n);
@@ -97,12 +97,16 @@ UpdateStats PpoTrainer::update() {
       sum_policy += l.policy;
       sum_value += l.value;
       sum_entropy += l.entropy;
+      sum_kl += l.approx_kl;
+      sum_clipped += l.clip_fraction;
     }
   }
   const double count = std::max<int64_t>(1, batches * hp.num_epoch);
   stats.policy_loss = float(sum_policy / count);
   stats.value_loss = float(sum_value / count);
   stats.entropy = float(sum_entropy / count);
+  stats.approx_kl = float(sum_kl / count);
+  stats.clip_fraction = float(sum_clipped / count);
   stats.matmul_flops = 6.0 * (actor_macs() + ppo_critic_macs()) * double(batches * bs) * hp.num_epoch;
   buffer_.clear();
   ++updates_;

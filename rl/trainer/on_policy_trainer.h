@@ -28,6 +28,10 @@ namespace rlt {
 struct UpdateStats {
   float policy_loss = 0, value_loss = 0, baseline_loss = 0, entropy = 0;
   float learning_rate = 0, epsilon = 0, beta = 0;
+  // how far the update moved the policy, averaged over its minibatches (each measured before its
+  // gradient step): the approximate KL divergence from the policy that collected the buffer and
+  // the share of rows whose probability ratio left [1 - epsilon, 1 + epsilon]
+  float approx_kl = 0, clip_fraction = 0;
   int64_t experiences = 0;
   // floating-point operations of the update's matrix products (forward and backward, counted
   // from the layer shapes: 2 per multiply-add, backward twice the forward), for throughput reports

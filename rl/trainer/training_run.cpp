@@ -36,21 +36,30 @@ namespace {
 
 const char* kMetricsHeader =
     "step,elapsed_s,episodes,mean_return,std_return,mean_length,policy_loss,value_loss,"
-    "baseline_loss,entropy,learning_rate,epsilon,beta,elo\n";
+    "baseline_loss,entropy,learning_rate,epsilon,beta,elo,approx_kl,clip_fraction\n";
 
 // keeps the rows of a metrics file whose step is <= `step` (after a resume). A last row without
 // its newline is the start of a write that was cut off (a kill, a full disk) and goes too: its
-// first field may be a prefix of the step it was meant to hold.
-void truncate_metrics(const std::string& path, int64_t step) {
+// first field may be a prefix of the step it was meant to hold. With `header` (a behavior's
+// metrics), a file written before columns were added at the end of the header gets the new
+// header and empty fields for them in its kept rows; any other header is an error.
+void truncate_metrics(const std::string& path, int64_t step, const std::string& header = "") {
   std::ifstream in(path, std::ios::binary);
   if (!in) return;
   std::string contents((std::istreambuf_iterator<char>(in)), {});
   if (!contents.empty() && contents.back() != '\n') contents.erase(contents.rfind('\n') + 1);
   std::istringstream lines(contents);
-  std::string line, kept;
+  std::string line, kept, padding;
   for (int64_t number = 1; std::getline(lines, line); ++number) {
     if (number == 1) {  // the header
-      kept += line + "\n";
+      const std::string wanted = header.empty() ? line : header.substr(0, header.find('\n'));
+      if (line != wanted) {
+        if (wanted.compare(0, line.size() + 1, line + ",") != 0)
+          throw std::runtime_error(path + ":1: the header is '" + line + "', expected '" + wanted +
+                                   "' (the run was not resumed; the file was left as it was)");
+        padding = std::string(std::count(wanted.begin() + line.size(), wanted.end(), ','), ',');
+      }
+      kept += wanted + "\n";
       continue;
     }
     const std::string first = line.substr(0, line.find(','));
@@ -59,7 +68,7 @@ void truncate_metrics(const std::string& path, int64_t step) {
     if (first.empty() || *end != '\0')
       throw std::runtime_error(path + ":" + std::to_string(number) + ": expected a step, got '" +
                                first + "' (the run was not resumed; the file was left as it was)");
-    if (row_step <= step) kept += line + "\n";
+    if (row_step <= step) kept += line + padding + "\n";
   }
   write_file_atomically(path, kept);
 }
@@ -251,7 +260,8 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     if (!status_.checkpoints.empty()) {
       const auto& last = status_.checkpoints.back();
       load_checkpoint(folder_->file(last.file), false);
-      for (auto& t : trainers_) truncate_metrics(folder_->metrics_path(t->behavior()), t->step());
+      for (auto& t : trainers_)
+        truncate_metrics(folder_->metrics_path(t->behavior()), t->step(), kMetricsHeader);
       truncate_metrics(folder_->episode_metrics_path(), total_steps());
     }
     status_.finished = false;
@@ -638,7 +648,8 @@ void TrainingRun::save_checkpoint() {
     const UpdateSums& u = summary_updates_[b];
     write_vector(ba, "summary.updates",
                  std::vector<double>{u.policy_loss, u.value_loss, u.baseline_loss, u.entropy,
-                                     u.learning_rate, u.epsilon, u.beta, double(u.count)});
+                                     u.learning_rate, u.epsilon, u.beta, double(u.count),
+                                     u.approx_kl, u.clip_fraction});
     const LastSummary& last = last_summary_[b];
     write_vector(ba, "summary.last",
                  std::vector<double>{double(last.any), last.reward, last.group_reward, last.length,
@@ -725,8 +736,12 @@ void TrainingRun::load_checkpoint(const std::string& path, bool weights_only) {
     if (read_metric_sums(ba, "summary.metrics", summary_metrics_[b], unused)) {
       summary_lengths_[b] = read_vector<float>(ba, "summary.lengths");
       const auto u = read_vector<double>(ba, "summary.updates");
-      summary_updates_[b] = {u.at(0), u.at(1), u.at(2), u.at(3),
-                             u.at(4), u.at(5), u.at(6), int(u.at(7))};
+      summary_updates_[b] = {u.at(0), u.at(1), u.at(2), u.at(3), u.at(4), u.at(5), u.at(6)};
+      summary_updates_[b].count = int(u.at(7));
+      if (u.size() > 9) {  // checkpoints written before these two were kept leave them 0
+        summary_updates_[b].approx_kl = u[8];
+        summary_updates_[b].clip_fraction = u[9];
+      }
       const auto last = read_vector<double>(ba, "summary.last");
       last_summary_[b] = {last.at(0) != 0, last.at(1), last.at(2), last.at(3),
                           int64_t(last.at(4))};
@@ -777,6 +792,8 @@ void TrainingRun::log_update(int b, const UpdateStats& s) {
   sums.learning_rate += s.learning_rate;
   sums.epsilon += s.epsilon;
   sums.beta += s.beta;
+  sums.approx_kl += s.approx_kl;
+  sums.clip_fraction += s.clip_fraction;
   ++sums.count;
   auto& w = update_window_[b];
   if (folder_) {
@@ -786,7 +803,7 @@ void TrainingRun::log_update(int b, const UpdateStats& s) {
         << s.policy_loss << ',' << s.value_loss << ',' << s.baseline_loss << ',' << s.entropy << ','
         << s.learning_rate << ',' << s.epsilon << ',' << s.beta << ',';
     if (trainers_[b]->config().self_play) out << self_play_->elo(b);  // else empty
-    out << '\n';
+    out << ',' << s.approx_kl << ',' << s.clip_fraction << '\n';
     append_to_file(folder_->metrics_path(trainers_[b]->behavior()), out.str());
   }
   w = EpisodeStats{};
@@ -862,6 +879,8 @@ void TrainingRun::write_tensorboard(int b) {
     scalars.emplace_back("Policy/Learning Rate", float(u.learning_rate / n));
     scalars.emplace_back("Policy/Epsilon", float(u.epsilon / n));
     scalars.emplace_back("Policy/Beta", float(u.beta / n));
+    scalars.emplace_back("Policy/Approx KL", float(u.approx_kl / n));
+    scalars.emplace_back("Policy/Clip Fraction", float(u.clip_fraction / n));
   }
   if (t.config().self_play) scalars.emplace_back("Self-play/ELO", float(self_play_->elo(b)));
   for (const auto& [name, lesson] : parameters_.lessons())

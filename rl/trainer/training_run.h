@@ -169,6 +169,7 @@ class TrainingRun {
     double policy_loss = 0, value_loss = 0, baseline_loss = 0, entropy = 0;
     double learning_rate = 0, epsilon = 0, beta = 0;
     int count = 0;
+    double approx_kl = 0, clip_fraction = 0;
   };
   std::vector<UpdateSums> summary_updates_;  // per behavior
   struct LastSummary {  // the newest summary with episodes (summary line, TensorBoard, table)

@@ -115,6 +115,9 @@ TEST_P(MlpPpoGradientTest, EqualsAutograd) {
   EXPECT_NEAR(got.value, ref.value.item<float>(), 1e-4 * std::max(1.f, ref.value.item<float>()));
   EXPECT_NEAR(got.entropy, ref.entropy.item<float>(), 1e-4);
   EXPECT_NEAR(got.total, ref.total.item<float>(), 1e-4);
+  EXPECT_NEAR(got.approx_kl, ref.approx_kl.item<float>(), 1e-5 * (1 + got.approx_kl));
+  EXPECT_NEAR(got.clip_fraction, ref.clip_fraction.item<float>(), 1e-6);
+  EXPECT_GT(got.clip_fraction, 0.0);  // the clip is active (asserted above)
   const auto names = net->named_parameters().keys();
   auto params = net->parameters();
   for (size_t i = 0; i < params.size(); ++i) {

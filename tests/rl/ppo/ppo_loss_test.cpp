@@ -1,6 +1,6 @@
 // Equivalence of ppo_loss with a naive scalar loop in double (both sides of the ratio clip,
-// positive and negative advantages, value clipping), and zero policy gradient in the clipped
-// region.
+// positive and negative advantages, value clipping, the approximate KL and the clip fraction),
+// and zero policy gradient in the clipped region.
 #include "rl/ppo/ppo_loss.h"
 
 #include <gtest/gtest.h>
@@ -19,7 +19,7 @@ struct Minibatch {
 torch::Tensor tensor(const std::vector<float>& v) { return torch::tensor(v); }
 
 struct NaiveLoss {
-  double policy = 0, value = 0, entropy = 0, total = 0;
+  double policy = 0, value = 0, entropy = 0, total = 0, approx_kl = 0, clip_fraction = 0;
 };
 
 NaiveLoss naive_loss(const Minibatch& m, double eps, double beta) {
@@ -34,7 +34,11 @@ NaiveLoss naive_loss(const Minibatch& m, double eps, double beta) {
     const double v_clip = v_old + std::min(std::max(v - v_old, -eps), eps);
     out.value += std::max((ret - v) * (ret - v), (ret - v_clip) * (ret - v_clip));
     out.entropy += m.entropy[i];
+    out.approx_kl += r - 1 - std::log(r);
+    out.clip_fraction += std::abs(r - 1) > eps ? 1 : 0;
   }
+  out.approx_kl /= n;
+  out.clip_fraction /= n;
   out.policy /= n;
   out.value /= n;
   out.entropy /= n;
@@ -59,6 +63,9 @@ void expect_matches_naive(const Minibatch& m, float eps, float beta) {
   EXPECT_NEAR(got.value.item<float>(), ref.value, 1e-5 * (1 + std::abs(ref.value)));
   EXPECT_NEAR(got.entropy.item<float>(), ref.entropy, 1e-5 * (1 + std::abs(ref.entropy)));
   EXPECT_NEAR(got.total.item<float>(), ref.total, 1e-5 * (1 + std::abs(ref.total)));
+  EXPECT_NEAR(got.approx_kl.item<float>(), ref.approx_kl, 1e-5 * (1 + ref.approx_kl));
+  EXPECT_FLOAT_EQ(got.clip_fraction.item<float>(), float(ref.clip_fraction));
+  EXPECT_FALSE(got.approx_kl.requires_grad());
 }
 
 // one element in each case: ratio above / inside / below the clip range, advantage + / -,
@@ -78,6 +85,18 @@ Minibatch case_batch() {
 
 TEST(PpoLossTest, EveryClipCaseMatchesNaive) {
   expect_matches_naive(case_batch(), 0.2f, 0.01f);
+  // two rows above the range (1.5) and two below (0.6) of eight; the KL term of each row is
+  // r - 1 - log r: 0.5 - log 1.5, -0.4 - log 0.6, 0.05 - log 1.05, twice each, and 0 twice
+  PpoLoss l = run(case_batch(), 0.2f, 0.01f);
+  EXPECT_FLOAT_EQ(l.clip_fraction.item<float>(), 0.5f);
+  const double kl = 2 * ((0.5 - std::log(1.5)) + (-0.4 - std::log(0.6)) + (0.05 - std::log(1.05))) / 8;
+  EXPECT_NEAR(l.approx_kl.item<float>(), kl, 1e-6);
+  // the same policy measures no change
+  Minibatch same = case_batch();
+  same.log_prob = same.old_log_prob;
+  PpoLoss none = run(same, 0.2f, 0.01f);
+  EXPECT_EQ(none.approx_kl.item<float>(), 0.f);
+  EXPECT_EQ(none.clip_fraction.item<float>(), 0.f);
   expect_matches_naive(case_batch(), 0.1f, 0.f);
 }
 

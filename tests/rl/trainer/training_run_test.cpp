@@ -35,6 +35,11 @@ std::string file_contents(const fs::path& path) {
   return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+}
+
 // An env that counts decisions and emits a bad number at a chosen global decision.
 class BadNumberEnv : public Env {
  public:
@@ -799,6 +804,70 @@ TEST_F(TrainingRunTest, AResumeDropsAMetricsRowWhoseWriteWasCutOff) {
     EXPECT_NE(what.find("expected a step, got 'x1'"), std::string::npos) << what;
   }
   EXPECT_EQ(file_contents(metrics), garbled);
+}
+
+TEST_F(TrainingRunTest, AResumeKeepsTheRowsOfAMetricsFileWrittenBeforeColumnsWereAdded) {
+  {
+    TrainingRun first(small_config("CartPole", "CartPole", 3000, 1000), options("old"));
+    first.train(/*stop_after_boundaries=*/1);
+  }
+  const fs::path metrics = dir_ / "old" / "metrics" / "CartPole.csv";
+  // the file as a build before approx_kl and clip_fraction wrote it: their columns cut off
+  auto drop_last_two = [](const std::string& line) {
+    return line.substr(0, line.rfind(',', line.rfind(',') - 1));
+  };
+  std::istringstream lines(file_contents(metrics));
+  std::string line, old_file;
+  std::getline(lines, line);
+  const std::string header = line;
+  ASSERT_EQ(header.substr(header.size() - 24), ",approx_kl,clip_fraction");
+  old_file += drop_last_two(line) + "\n";
+  int old_rows = 0;
+  while (std::getline(lines, line)) {
+    old_file += drop_last_two(line) + "\n";
+    ++old_rows;
+  }
+  ASSERT_GT(old_rows, 0);
+  write_text(metrics, old_file);
+  auto opt = options("old");
+  opt.resume = true;
+  { TrainingRun(small_config("CartPole", "CartPole", 3000, 1000), opt).train(); }
+  std::istringstream after(file_contents(metrics));
+  std::getline(after, line);
+  EXPECT_EQ(line, header);
+  // the kept rows first, padded with two empty fields, then the new rows with both measured
+  int row = 0, padded = 0, measured = 0;
+  while (std::getline(after, line)) {
+    ++row;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), std::count(header.begin(), header.end(), ','))
+        << "row " << row << ": " << line;
+    if (line.substr(line.size() - 2) == ",,") {
+      EXPECT_EQ(padded, row - 1) << "a padded row after a new one, row " << row << ": " << line;
+      ++padded;
+    } else {
+      // approx_kl, the second field from the end: the second pass over a buffer moves the policy
+      const size_t last = line.rfind(',');
+      const size_t kl = line.rfind(',', last - 1) + 1;
+      if (std::stod(line.substr(kl, last - kl)) > 0) ++measured;
+      EXPECT_GE(std::stod(line.substr(last + 1)), 0.0) << "row " << row << ": " << line;
+    }
+  }
+  EXPECT_GT(padded, 0);
+  EXPECT_LE(padded, old_rows);
+  EXPECT_GT(row, padded);
+  EXPECT_GT(measured, 0);
+
+  // a header that is not an older one is an error naming the file, and nothing changes
+  write_text(metrics, "step,something_else\n1,2\n");
+  try {
+    TrainingRun again(small_config("CartPole", "CartPole", 3000, 1000), opt);
+    ADD_FAILURE() << "resumed over a metrics file of another layout";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("CartPole.csv:1: the header is 'step,something_else'"), std::string::npos)
+        << what;
+  }
+  EXPECT_EQ(file_contents(metrics), "step,something_else\n1,2\n");
 }
 
 TEST_F(TrainingRunTest, ExistingRunWithoutResumeOrForceTouchesNothing) {
