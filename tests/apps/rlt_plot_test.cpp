@@ -137,6 +137,37 @@ TEST_F(RltPlotTest, ASeriesWithoutPointsIsNotDrawn) {
   EXPECT_GT(test::count_colour(losses, kSecond), 300);
 }
 
+TEST_F(RltPlotTest, ThePolicyFigureShowsHowFarTheUpdatesMovedThePolicyWhenTheRunLoggedIt) {
+  // a run written before approx_kl and clip_fraction were logged has no such panels
+  const fs::path old_run = make_run("old");
+  ASSERT_EQ(rlt("plot '" + old_run.string() + "'").exit_code, 0);
+  const std::string old_script = read_text(old_run / "plots/plots.gp");
+  EXPECT_NE(old_script.find("Policy entropy"), std::string::npos);
+  EXPECT_EQ(old_script.find("Approximate KL"), std::string::npos);
+  EXPECT_EQ(old_script.find("Clip fraction"), std::string::npos);
+  // the same run with the two columns (the hiders' only; the seekers' left empty)
+  const fs::path run = make_run("new");
+  for (const char* behavior : {"Hider", "Seeker"}) {
+    const fs::path file = run / "metrics" / (std::string(behavior) + ".csv");
+    std::istringstream in(read_text(file));
+    std::ostringstream out;
+    std::string line;
+    std::getline(in, line);
+    out << line << ",approx_kl,clip_fraction\n";
+    for (int i = 1; std::getline(in, line); ++i)
+      out << line << (behavior == std::string("Hider") ? "," + std::to_string(0.001 * i) + ",0.2" : ",,")
+          << '\n';
+    std::ofstream(file) << out.str();
+  }
+  Result r = rlt("plot '" + run.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string script = read_text(run / "plots/plots.gp");
+  EXPECT_NE(script.find("Approximate KL"), std::string::npos);
+  EXPECT_NE(script.find("Clip fraction"), std::string::npos);
+  test::Image policy = test::read_png((run / "plots/policy.png").string());
+  EXPECT_GT(test::count_colour(policy, kFirst), 300);
+}
+
 TEST_F(RltPlotTest, PlottedPointsAreTheFilesFiniteValuesSmoothedLikeTensorBoard) {
   const fs::path run = make_run("run");
   Result r = rlt("plot '" + run.string() + "' --smoothing 0.5");
