@@ -20,8 +20,9 @@ Draws the learning curves of training runs as PNG files with gnuplot (Debian: gn
 line per run and behavior: reward.png, episode_length.png, losses.png (policy, value, MA-POCA
 baseline), policy.png (entropy, learning rate, approximate KL and clip fraction per update),
 elo.png (self-play), lessons.png (curricula), strategies.png (the env's strategy rates by the
-steps of their behavior) and episode_metrics.png (the env's episode metrics). Figures with nothing to draw are left out. Reads each run's metrics/
-folder and training_status.json; works while the run is still training.
+steps of their behavior) and episode_metrics.png (the env's episode metrics). Figures with
+nothing to draw are left out. Reads each run's metrics/ folder and training_status.json; works
+while the run is still training.
 
 Options:
   --out DIR        where the PNGs go (default: RUN_DIR/plots for one run, plots/ for several);

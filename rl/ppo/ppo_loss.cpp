@@ -14,7 +14,8 @@ PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_pro
                  const torch::Tensor& entropy, float epsilon, float beta, float value_loss_coef) {
   PpoLoss out;
   // clipped surrogate
-  auto ratio = torch::exp(log_prob - old_log_prob);
+  auto log_ratio = log_prob - old_log_prob;  // [B]
+  auto ratio = torch::exp(log_ratio);         // [B]
   auto clipped_ratio = torch::clamp(ratio, 1.f - epsilon, 1.f + epsilon);
   out.policy = -torch::min(ratio * advantages, clipped_ratio * advantages).mean();
   out.value = clipped_value_loss(values, old_values, returns, epsilon);
@@ -22,8 +23,7 @@ PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_pro
   out.total = out.policy + value_loss_coef * out.value - beta * out.entropy;
   {
     torch::NoGradGuard no_grad;
-    auto log_ratio = log_prob - old_log_prob;                      // [B]
-    out.approx_kl = (torch::exp(log_ratio) - 1 - log_ratio).mean();
+    out.approx_kl = (ratio - 1 - log_ratio).mean();
     out.clip_fraction = ((ratio - 1).abs() > epsilon).to(torch::kFloat).mean();
   }
   return out;
