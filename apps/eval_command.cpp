@@ -20,9 +20,10 @@ const char* const kEvalHelp = R"(Usage:
 
 Plays episodes and reports, per behavior, the mean and standard deviation of the agents' episode
 returns and the mean of every episode metric of the env (e.g. success_rate, tag_rate, fort_rate).
-With RUN_DIR, every behavior plays the newest checkpoint of that training run, in the run's env
-with its parameters at the curriculum lesson the checkpoint had reached. With --env, every
-behavior acts uniformly at random unless --policy says otherwise.
+With RUN_DIR, every behavior plays the newest checkpoint of that training run (or the one
+--checkpoint names), in the run's env with its parameters at the curriculum lesson the
+checkpoint had reached. With --env, every behavior acts uniformly at random unless --policy says
+otherwise.
 
 Options:
   --env ID                  the registered env to play (see `rlt envs`) instead of a run's
@@ -33,6 +34,9 @@ Options:
                                         that locks a prop in an opening, seeker that chases)
                               RUN_DIR   that behavior's network from a training run's newest
                                         checkpoint
+  --checkpoint N            with RUN_DIR: play checkpoints/checkpoint-N.pt, one of those the
+                            run's training_status.json lists (with their steps), instead of the
+                            newest
   --param NAME=VALUE        set an env parameter (repeat), over the run's (e.g. --param level=2)
   --record FILE             write every counted episode, frame by frame, as JSON for replay
                             viewers (envs that record: the drone envs; format in
@@ -69,7 +73,8 @@ std::unique_ptr<BehaviorPolicy> run_policy(const std::string& run_dir, const Beh
 
 int run_eval(const std::vector<std::string>& args) {
   CommandLine cl(args, {"--deterministic", "--json"},
-                 {"--episodes", "--seed", "--num-envs", "--env", "--policy", "--param", "--record"});
+                 {"--episodes", "--seed", "--num-envs", "--env", "--policy", "--param", "--record",
+                  "--checkpoint"});
   const bool from_run = cl.positional().size() == 1;
   if (cl.positional().size() > 1) throw UsageError("expected at most one RUN_DIR");
   if (from_run == cl.has("--env")) throw UsageError("expected either RUN_DIR or --env ID");
@@ -78,12 +83,15 @@ int run_eval(const std::vector<std::string>& args) {
   const int num_envs = int(cl.integer("--num-envs", std::min(episodes, 8), 1));
   const bool deterministic = cl.has("--deterministic");
   const Parameters overrides = cl.parameters();
+  const int64_t checkpoint = cl.integer("--checkpoint", 0, 1);
+  if (cl.has("--checkpoint") && !from_run)
+    throw UsageError("--checkpoint N picks a checkpoint of RUN_DIR; with --env there is none");
 
   std::unique_ptr<SavedRun> run;
   std::string env_id = cl.value("--env");
   Parameters construction;
   if (from_run) {
-    run = std::make_unique<SavedRun>(load_saved_run(cl.positional()[0]));
+    run = std::make_unique<SavedRun>(load_saved_run(cl.positional()[0], checkpoint));
     env_id = run->config.env_settings.env_id;
     construction = run->config.env_settings.params;
   }

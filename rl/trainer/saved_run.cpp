@@ -11,7 +11,24 @@ namespace fs = std::filesystem;
 
 namespace rlt {
 
-SavedRun load_saved_run(const std::string& run_dir) {
+namespace {
+
+// "18 (Hider 2000000, Seeker 1600000), 19 (...)"
+std::string list_checkpoints(const std::vector<CheckpointEntry>& checkpoints) {
+  std::string out;
+  for (const auto& c : checkpoints) {
+    out += (out.empty() ? "" : ", ") + std::to_string(c.index) + " (";
+    std::string steps;
+    for (const auto& [behavior, step] : c.steps)
+      steps += (steps.empty() ? "" : ", ") + behavior + " " + std::to_string(step);
+    out += steps + ")";
+  }
+  return out;
+}
+
+}  // namespace
+
+SavedRun load_saved_run(const std::string& run_dir, int64_t checkpoint_index) {
   fs::path dir = fs::path(run_dir).lexically_normal();
   if (dir.filename().empty()) dir = dir.parent_path();
   if (!fs::is_directory(dir)) throw std::runtime_error("run folder " + run_dir + " does not exist");
@@ -22,7 +39,17 @@ SavedRun load_saved_run(const std::string& run_dir) {
   auto status = run.folder->read_status();
   if (status.checkpoints.empty())
     throw std::runtime_error(run.folder->path() + " has no checkpoint yet");
-  run.checkpoint = run.folder->file(status.checkpoints.back().file);
+  const CheckpointEntry* chosen = &status.checkpoints.back();
+  if (checkpoint_index != 0) {
+    chosen = nullptr;
+    for (const auto& c : status.checkpoints)
+      if (c.index == checkpoint_index) chosen = &c;
+    if (!chosen)
+      throw std::runtime_error(run.folder->path() + " has no checkpoint " +
+                               std::to_string(checkpoint_index) + "; it keeps " +
+                               list_checkpoints(status.checkpoints));
+  }
+  run.checkpoint = run.folder->file(chosen->file);
   auto env = EnvRegistry::instance().make(run.config.env_settings.env_id, run.config.env_settings.params);
   run.env_spec = env->spec();
   torch::serialize::InputArchive archive;

@@ -1,5 +1,6 @@
 // A finished or running training run read back from its folder: the resolved configuration and
-// each behavior's network from the newest checkpoint (for eval and export).
+// each behavior's network from one of its checkpoints, the newest unless told (for eval and
+// export).
 #pragma once
 
 #include <memory>
@@ -23,7 +24,9 @@ struct SavedRun {
   EnvironmentParameterManager parameters;  // environment_parameters at the checkpoint's lessons
 };
 
-// Throws with a message naming the folder or file when the run cannot be read.
-SavedRun load_saved_run(const std::string& run_dir);
+// checkpoint_index is the N of checkpoints/checkpoint-N.pt as training_status.json lists it; 0
+// loads the newest. Throws with a message naming the folder or file when the run cannot be read,
+// and listing the run's checkpoints when it has none numbered checkpoint_index.
+SavedRun load_saved_run(const std::string& run_dir, int64_t checkpoint_index = 0);
 
 }  // namespace rlt

@@ -274,6 +274,24 @@ TEST_F(RltCliTest, EvalPrintsOneJsonLine) {
   EXPECT_EQ(r.out[r.out.size() - 2], '}');
 }
 
+TEST_F(RltCliTest, EvalPlaysTheCheckpointItIsTold) {
+  const fs::path& run = trained_run();
+  Result r = rlt("eval " + quote(run.string()) + " --checkpoint 1 --episodes 2 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(^\{"behavior":"CartPole",.*"episodes":2[,}])")))
+      << r.out;
+  // a number the run does not keep names the ones it does
+  r = rlt("eval " + quote(run.string()) + " --checkpoint 99 --episodes 1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("has no checkpoint 99; it keeps 1 (CartPole "), std::string::npos) << r.err;
+  r = rlt("eval " + quote(run.string()) + " --checkpoint last --episodes 1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--checkpoint: expected an integer, got 'last'"), std::string::npos) << r.err;
+  r = rlt("eval --env CartPole --checkpoint 1 --episodes 1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--checkpoint N picks a checkpoint of RUN_DIR"), std::string::npos) << r.err;
+}
+
 TEST_F(RltCliTest, ExportRewritesThePolicy) {
   const fs::path& run = trained_run();
   const fs::path policy = run / "CartPole.pt";

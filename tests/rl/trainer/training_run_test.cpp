@@ -618,6 +618,35 @@ TEST_F(TrainingRunTest, WritesTheRunFolder) {
   EXPECT_NE(log_.str().find("Mean Reward:"), std::string::npos);
 }
 
+TEST_F(TrainingRunTest, ASavedRunLoadsTheCheckpointItIsToldOrTheNewest) {
+  TrainingRun run(small_config("CartPole", "CartPole", 2500, 1000), options("pick"));
+  run.train();
+  const std::string path = (dir_ / "pick").string();
+  SavedRun newest = load_saved_run(path);
+  SavedRun first = load_saved_run(path, 1);
+  EXPECT_EQ(fs::path(newest.checkpoint).filename(), "checkpoint-3.pt");
+  EXPECT_EQ(fs::path(first.checkpoint).filename(), "checkpoint-1.pt");
+  EXPECT_EQ(fs::path(load_saved_run(path, 3).checkpoint).filename(), "checkpoint-3.pt");
+  // 1500 more steps of training moved the weights: the two are different networks
+  const auto a = first.trainers[0]->network()->parameters();
+  const auto b = newest.trainers[0]->network()->parameters();
+  ASSERT_EQ(a.size(), b.size());
+  bool differ = false;
+  for (size_t i = 0; i < a.size(); ++i) differ = differ || !torch::equal(a[i], b[i]);
+  EXPECT_TRUE(differ);
+  // the newest is the one the run ended with
+  const auto trained = parameters(run);
+  for (size_t i = 0; i < b.size(); ++i) EXPECT_TRUE(torch::equal(b[i], trained[i])) << i;
+  try {
+    load_saved_run(path, 7);
+    ADD_FAILURE() << "loaded a checkpoint the run does not have";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("has no checkpoint 7; it keeps 1 (CartPole 1"), std::string::npos) << what;
+    EXPECT_NE(what.find(", 3 (CartPole 2"), std::string::npos) << what;
+  }
+}
+
 TEST_F(TrainingRunTest, WritesTensorBoardEventsWithMlAgentsTags) {
   // self-play (ELO) and a curriculum (lesson) on Pursuit, whose episodes report metrics and
   // whose seekers train with MA-POCA (group reward, baseline loss)
