@@ -33,6 +33,9 @@ constexpr float kObstacleFootprint = 0.65f;
 
 float clip1(float x) { return std::clamp(x, -1.0f, 1.0f); }
 
+// metres squashed into (-1, 1): 0.1 m is 0.09, 1 m is 0.5, 5 m is 0.83
+float soft_metres(float x) { return x / (1.0f + std::abs(x)); }
+
 // a prop standing in `door` (unlocked, covering it, parallel to its wall), on the floor at prop_y
 btVector3 standing_in(const drone::Opening& door, float prop_y) {
   const btVector3 p = door.centre - door.normal * kInDoorway;
@@ -1057,6 +1060,23 @@ void HideAndSeek::write_objects(float* out, const Agent& a) const {
     relative(opening.centre, o);
     o[3] = opening.open ? 1.0f : 0.0f;
     o[4] = closed_now_[index] ? 1.0f : 0.0f;
+    if (!opening.open || index >= num_props) continue;
+    // its prop (the one of the same index: own_first pairs them) against the spot where that
+    // prop would stand in it, at a scale that tells centimetres apart near it
+    const drone::Prop& prop = (*props_)[index];
+    const btVector3 error = standing_in(opening, prop.position().y()) - prop.position();
+    o[5] = soft_metres(error.dot(right));
+    o[6] = soft_metres(error.dot(fwd));
+    o[7] = clip1(opening.normal.dot(right));
+    o[8] = clip1(opening.normal.dot(fwd));
+    // the panel's normal against the opening's, as twice the angle: (1, 0) parallel to its wall
+    const btVector3 normal = prop.body->getWorldTransform().getBasis().getColumn(2);
+    const float c = normal.dot(opening.normal), sn = normal.dot(opening.normal.cross(btVector3(0, 1, 0)));
+    const float norm = c * c + sn * sn;
+    if (norm > 1e-6f) {
+      o[9] = clip1((c * c - sn * sn) / norm);
+      o[10] = clip1(2 * sn * c / norm);
+    }
   }
   float* mate = openings + kNumOpenings * kOpeningFloats;  // [4]
   float best = INFINITY;

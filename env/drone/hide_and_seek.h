@@ -117,13 +117,19 @@
 //    hider in front of a prop cannot know whether to lock or leave it (`prop_cues` 0: both 0, and
 //    the hiders' masks allow every option, as for the paper's agents). Values are clipped to
 //    [-1, 1].
-//  "objects" [60] (`object_obs` 1, the default; 0: all zeros, the paper's observations): what
+//  "objects" [84] (`object_obs` 1, the default; 0: all zeros, the paper's observations): what
 //    OpenAI's agents observe of the world's entities, in the agent's own frame (right, up,
 //    forward), positions / (2 half_size): per prop entry k < 4 (8 floats; 0 past the level's
 //    props): relative centre [3], present, locked, held by another drone, and sin and cos of twice
 //    the angle from the agent's forward to the panel's normal (a panel looks the same turned by
-//    180 degrees); per opening entry k < 4 (5 floats): relative centre [3], open at the level,
-//    closed now; the nearest teammate: relative centre [3] and present; the agent's slot one-hot
+//    180 degrees); per opening entry k < 4 (11 floats): relative centre [3], open at the level,
+//    closed now, and for an open one with a prop of its own index (the prop entry k that
+//    own_first pairs with it; else 0): how far that prop is from standing in it (where a prop
+//    locked unturned closes it), along the agent's right and forward, as x / (1 + |x|) of the
+//    metres (0.1 m is 0.09: the shared scale of 1/24 per metre cannot tell a prop 10 cm short from
+//    one in place), the opening's outward normal along the agent's right and forward, and cos and
+//    sin of twice the angle from that normal to the panel's (1, 0: parallel to the wall);
+//    the nearest teammate: relative centre [3] and present; the agent's slot one-hot
 //    [4]. Each agent's own first: with n props (and n open openings, n = level), entry k < n is
 //    prop (and opening) (k + slot) mod n, in arena.h's order, entries from n on are the rest in
 //    order; so hiders that learned at level 1 to take the first prop to the first opening take
@@ -177,7 +183,7 @@ class HideAndSeek : public Env {
   static constexpr int kVectorSize = 20;
   static constexpr int kMaxProps = 4;  // level 4
   static constexpr int kPropFloats = 8;
-  static constexpr int kOpeningFloats = 5;
+  static constexpr int kOpeningFloats = 11;
   // "objects": props, openings, the nearest teammate, own slot (see the header comment)
   static constexpr int kObjectsSize =
       kMaxProps * kPropFloats + drone::kNumOpenings * kOpeningFloats + 4 + kMaxSeekers;

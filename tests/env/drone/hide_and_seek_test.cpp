@@ -702,6 +702,64 @@ TEST(HideAndSeekTest, ObjectsObservationPlacesPropsOpeningsAndTheTeammate) {
     ASSERT_EQ(x, 0.0f);
 }
 
+// each open opening's entry says, at a fine scale, how far its prop is from standing in it, and
+// which way the opening and the panel face, all in the agent's frame
+TEST(HideAndSeekTest, ObjectsObservationTellsHowFarEachPropIsFromStandingInItsOpening) {
+  constexpr int kOpenings = HideAndSeek::kMaxProps * HideAndSeek::kPropFloats;
+  constexpr int kStride = HideAndSeek::kOpeningFloats;
+  constexpr float kInDoorway = 0.35f;  // m inside the wall where a prop stands in a doorway
+  const auto soft = [](float m) { return m / (1.0f + std::abs(m)); };
+  Game g({{"level", 2.f}, {"num_hiders", 2.f}, {"num_seekers", 1.f}});
+  const drone::Opening& door = g.env.arena().openings()[0];
+  const btVector3 along = door.normal.cross(btVector3(0, 1, 0));  // horizontal, along the wall
+  const drone::Prop& prop = g.env.props()[0];
+  // prop 0 standing in doorway 0, turned parallel to its wall, then 10 cm along the wall
+  const auto place = [&](float shift) {
+    btTransform pose = prop.body->getWorldTransform();
+    btVector3 spot = door.centre - door.normal * kInDoorway + along * shift;
+    spot.setY(prop.half.y() + 0.02f);
+    pose.setOrigin(spot);
+    pose.setRotation(btQuaternion(btVector3(0, 1, 0), std::atan2(door.normal.x(), door.normal.z())));
+    prop.body->setWorldTransform(pose);
+    g.idle_step();
+  };
+  const auto entry = [&](int hider, int k) {
+    const float* o = g.hiders().observations[1].data() + hider * HideAndSeek::kObjectsSize;
+    return std::vector<float>(o + kOpenings + k * kStride, o + kOpenings + (k + 1) * kStride);
+  };
+  place(0.0f);
+  const auto& me = *g.env.agent(HideAndSeek::kHider, 0).drone;
+  std::vector<float> o = entry(0, 0);  // hider 0's own opening is opening 0
+  EXPECT_NEAR(o[5], 0.0f, 0.02f);
+  EXPECT_NEAR(o[6], 0.0f, 0.02f);
+  EXPECT_NEAR(o[7], door.normal.dot(me.right()), 1e-3f);
+  EXPECT_NEAR(o[8], door.normal.dot(me.forward()), 1e-3f);
+  EXPECT_NEAR(o[9], 1.0f, 0.01f);  // parallel to the wall
+  EXPECT_NEAR(o[10], 0.0f, 0.1f);
+  place(0.1f);
+  o = entry(0, 0);
+  // the prop has to go 10 cm back along the wall: -along, seen from the hider
+  EXPECT_NEAR(o[5], soft(-0.1f * along.dot(me.right())), 0.01f);
+  EXPECT_NEAR(o[6], soft(-0.1f * along.dot(me.forward())), 0.01f);
+  EXPECT_GT(std::hypot(o[5], o[6]), 0.07f);
+  // the other hider sees opening 0 as its second entry, with the same prop
+  const auto& mate = *g.env.agent(HideAndSeek::kHider, 1).drone;
+  const std::vector<float> m = entry(1, 1);
+  EXPECT_NEAR(m[5], soft(-0.1f * along.dot(mate.right())), 0.01f);
+  EXPECT_NEAR(m[8], door.normal.dot(mate.forward()), 1e-3f);
+  // a prop far from its opening: squashed, but below 1 and pointing at it
+  const drone::Opening& other = g.env.arena().openings()[1];
+  btVector3 error = other.centre - other.normal * kInDoorway - g.env.props()[1].position();
+  error.setY(0.0f);
+  ASSERT_GT(error.length(), 1.0f);
+  o = entry(0, 1);
+  EXPECT_NEAR(o[5], soft(error.dot(me.right())), 0.01f);
+  EXPECT_NEAR(o[6], soft(error.dot(me.forward())), 0.01f);
+  // openings closed at the level have nothing past "open"
+  for (int k = 2; k < drone::kNumOpenings; ++k)
+    for (int i = 3; i < kStride; ++i) EXPECT_EQ(entry(0, k)[i], 0.0f) << k << " " << i;
+}
+
 TEST(HideAndSeekTest, FortRewardPaysEveryOpeningClosedWhenThePrepPhaseEnds) {
   for (const bool lock : {true, false}) {
     Game g({{"level", 1.f},
