@@ -458,12 +458,12 @@ TEST_F(RltCliTest, HideAndSeekConfigTrainsAndExportsBothPolicies) {
   EXPECT_NE(episodes.find(",tag_rate,"), std::string::npos) << episodes;
   EXPECT_GE(std::count(episodes.begin(), episodes.end(), '\n'), 2) << episodes;
   // both policies load in a fresh process (LibTorch only) and return 4 continuous actions and
-  // the grab and lock choices for one agent's 20 + 60 + 119 + 360 + 360 observation floats
+  // the grab and lock choices for one agent's 20 + 84 + 119 + 360 + 360 observation floats
   const fs::path input = root_ / "hs_probe_input.txt";
   {
     std::ofstream in(input);
-    in << "1 5 5\n1 20\n1 60\n1 119\n3 6 12 5\n3 9 8 5\n";
-    for (int i = 0; i < 919; ++i) in << (i % 7) * 0.1 << ' ';
+    in << "1 5 5\n1 20\n1 84\n1 119\n3 6 12 5\n3 9 8 5\n";
+    for (int i = 0; i < 943; ++i) in << (i % 7) * 0.1 << ' ';
     in << "\n1 1 1 1 1\n";
   }
   for (const char* behavior : {"Hider", "Seeker"}) {
