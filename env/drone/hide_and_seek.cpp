@@ -36,6 +36,22 @@ float clip1(float x) { return std::clamp(x, -1.0f, 1.0f); }
 // metres squashed into (-1, 1): 0.1 m is 0.09, 1 m is 0.5, 5 m is 0.83
 float soft_metres(float x) { return x / (1.0f + std::abs(x)); }
 
+// A panel's orientation about the vertical, as cos and sin of twice the angle of its normal from
+// `zero` (towards `quarter`, a right angle on): a panel looks the same turned half way round, so
+// twice the angle has no jump. False (both left alone) when the normal is vertical.
+struct DoubledAngle {
+  float cos2 = 0.0f, sin2 = 0.0f;
+};
+bool doubled_angle(const btVector3& normal, const btVector3& zero, const btVector3& quarter,
+                   DoubledAngle* out) {
+  const float c = normal.dot(zero), s = normal.dot(quarter);
+  const float norm = c * c + s * s;
+  if (norm <= 1e-6f) return false;
+  out->cos2 = clip1((c * c - s * s) / norm);  // rounding can take them a hair past 1
+  out->sin2 = clip1(2 * s * c / norm);
+  return true;
+}
+
 // a prop standing in `door` (unlocked, covering it, parallel to its wall), on the floor at prop_y
 btVector3 standing_in(const drone::Opening& door, float prop_y) {
   const btVector3 p = door.centre - door.normal * kInDoorway;
@@ -1044,12 +1060,10 @@ void HideAndSeek::write_objects(float* out, const Agent& a) const {
     o[4] = prop.locked() ? 1.0f : 0.0f;
     o[5] = prop.held_by != nullptr && prop.held_by != &d.body() ? 1.0f : 0.0f;
     // the panel's normal (its local z) against the agent's forward, as twice the angle
-    const btVector3 normal = prop.body->getWorldTransform().getBasis().getColumn(2);
-    const float c = normal.dot(fwd), sn = normal.dot(right);
-    const float norm = c * c + sn * sn;
-    if (norm > 1e-6f) {
-      o[6] = clip1(2 * sn * c / norm);  // rounding can take them a hair past 1
-      o[7] = clip1((c * c - sn * sn) / norm);
+    DoubledAngle turn;
+    if (doubled_angle(prop.normal(), fwd, right, &turn)) {
+      o[6] = turn.sin2;
+      o[7] = turn.cos2;
     }
   }
   float* openings = out + kMaxProps * kPropFloats;
@@ -1070,12 +1084,11 @@ void HideAndSeek::write_objects(float* out, const Agent& a) const {
     o[7] = clip1(opening.normal.dot(right));
     o[8] = clip1(opening.normal.dot(fwd));
     // the panel's normal against the opening's, as twice the angle: (1, 0) parallel to its wall
-    const btVector3 normal = prop.body->getWorldTransform().getBasis().getColumn(2);
-    const float c = normal.dot(opening.normal), sn = normal.dot(opening.normal.cross(btVector3(0, 1, 0)));
-    const float norm = c * c + sn * sn;
-    if (norm > 1e-6f) {
-      o[9] = clip1((c * c - sn * sn) / norm);
-      o[10] = clip1(2 * sn * c / norm);
+    DoubledAngle turn;
+    const btVector3 along_wall = opening.normal.cross(btVector3(0, 1, 0));
+    if (doubled_angle(prop.normal(), opening.normal, along_wall, &turn)) {
+      o[9] = turn.cos2;
+      o[10] = turn.sin2;
     }
   }
   float* mate = openings + kNumOpenings * kOpeningFloats;  // [4]

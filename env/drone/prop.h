@@ -77,6 +77,8 @@ struct Prop {
   btTypedConstraint* grab = nullptr;     // owned by the world
   bool locked() const { return locked_by != kNoTeam; }
   btVector3 position() const { return body->getWorldTransform().getOrigin(); }
+  // the panel's face normal (its local z) in the world
+  btVector3 normal() const { return body->getWorldTransform().getBasis().getColumn(2); }
 };
 
 class PropSet {
