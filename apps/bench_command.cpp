@@ -158,7 +158,9 @@ int bench_gemm(const CommandLine& cl) {
   const int threads = int(cl.integer("--threads", cores, 1));
   set_compute_threads(threads);
   const double square = gemm_gflops(size, size, size, 3.0);
-  const double learner = gemm_gflops(3072, 943, 256, 3.0);  // hide-and-seek: 943 observed floats
+  // the hide-and-seek learner's first layer: a 3072-row minibatch of 943 observed floats
+  constexpr int kRows = 3072, kInputs = 943, kUnits = 256;
+  const double learner = gemm_gflops(kRows, kInputs, kUnits, 3.0);
   const std::string core = openblas_core();
   if (cl.has("--json"))
     std::cout << "{\"threads\":" << threads << ",\"size\":" << size << ",\"square_gflops\":"
@@ -166,7 +168,8 @@ int bench_gemm(const CommandLine& cl) {
               << ",\"blas_core\":\"" << core << "\"}\n";
   else
     std::cout << threads << " thread(s): " << size << "^3 products " << square
-              << " GFLOP/s; 3072 x 943 x 256 products " << learner << " GFLOP/s"
+              << " GFLOP/s; " << kRows << " x " << kInputs << " x " << kUnits << " products "
+              << learner << " GFLOP/s"
               << (core.empty() ? "" : "; OpenBLAS kernels " + core) << "\n";
   return 0;
 }
