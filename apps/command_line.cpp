@@ -47,20 +47,23 @@ std::vector<std::string> CommandLine::values(const std::string& flag) const {
   return out;
 }
 
-long long CommandLine::integer(const std::string& flag, long long fallback, long long min_value) const {
-  if (!has(flag)) return fallback;
-  const std::string v = value(flag);
+long long parse_integer(const std::string& text, const std::string& what, long long min_value) {
   size_t used = 0;
   long long n = 0;
   try {
-    n = std::stoll(v, &used);
+    n = std::stoll(text, &used);
   } catch (...) {
     used = 0;
   }
-  if (used != v.size() || v.empty()) throw UsageError(flag + ": expected an integer, got '" + v + "'");
+  if (used != text.size() || text.empty())
+    throw UsageError(what + ": expected an integer, got '" + text + "'");
   if (n < min_value)
-    throw UsageError(flag + ": must be at least " + std::to_string(min_value) + ", got " + v);
+    throw UsageError(what + ": must be at least " + std::to_string(min_value) + ", got " + text);
   return n;
+}
+
+long long CommandLine::integer(const std::string& flag, long long fallback, long long min_value) const {
+  return has(flag) ? parse_integer(value(flag), flag, min_value) : fallback;
 }
 
 double CommandLine::number(const std::string& flag, double fallback, double low,

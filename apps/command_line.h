@@ -17,6 +17,9 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// TEXT as an integer of at least min_value; otherwise a UsageError that begins with WHAT
+long long parse_integer(const std::string& text, const std::string& what, long long min_value);
+
 class CommandLine {
  public:
   // `switches`: flags without a value; `options`: flags that take one value (may repeat)

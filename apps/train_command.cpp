@@ -51,6 +51,9 @@ Options:
                          env_settings.seed, else 0; with --resume the seed the run began with)
   --max-steps N          steps per behavior, overriding max_steps and lessons'
                          behavior_max_steps
+  --max-steps NAME=N     steps of behavior NAME alone (repeat; over a plain --max-steps N), e.g.
+                         --resume --max-steps Hider=3000000 lengthens a run without the seekers
+                         learning again
   --param NAME=VALUE     set an env parameter over env_settings.params (repeat; not one that
                          environment_parameters sets, itself or in a lesson's
                          other_parameters, nor one in a behavior's
@@ -76,6 +79,24 @@ cluster launcher can start them; --nproc N starts N local ranks itself. A rank t
 others stop within --dist-timeout with an error naming it; --resume continues from the last
 checkpoint.
 )";
+
+// --max-steps N (every behavior, once) and --max-steps NAME=N (one behavior, repeatable)
+static void read_max_steps(const CommandLine& cl, TrainOptions& opt) {
+  for (const std::string& v : cl.values("--max-steps")) {
+    const auto eq = v.find('=');
+    const std::string name = eq == std::string::npos ? "" : v.substr(0, eq);
+    const std::string number = eq == std::string::npos ? v : v.substr(eq + 1);
+    if (eq == 0) throw UsageError("--max-steps expects N or BEHAVIOR=N, got '" + v + "'");
+    const long long n = parse_integer(number, "--max-steps " + v, 1);
+    if (name.empty()) {
+      if (opt.max_steps > 0) throw UsageError("--max-steps N given twice");
+      opt.max_steps = n;
+    } else {
+      if (opt.behavior_max_steps.count(name)) throw UsageError("--max-steps " + name + " given twice");
+      opt.behavior_max_steps[name] = n;
+    }
+  }
+}
 
 int run_train(const std::vector<std::string>& args) {
   const std::set<std::string> switches = {"--resume", "--force"};
@@ -114,7 +135,7 @@ int run_train(const std::vector<std::string>& args) {
   opt.initialize_from = cl.value("--initialize-from");
   opt.num_envs = int(cl.integer("--num-envs", 0, 1));
   opt.seed = cl.integer("--seed", -1, 0);
-  opt.max_steps = cl.integer("--max-steps", 0, 1);
+  read_max_steps(cl, opt);
   opt.threads = int(cl.integer("--threads", 0, 1));
   opt.params = cl.parameters();
   RunConfig config = load_run_config(cl.positional()[0]);

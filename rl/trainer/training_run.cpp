@@ -151,6 +151,10 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     for (auto& [name, b] : config_.behaviors) b.max_steps = options_.max_steps;
     if (config_.default_settings) config_.default_settings->max_steps = options_.max_steps;
   }
+  for (const auto& [name, steps] : options_.behavior_max_steps)
+    if (steps < 1)
+      throw std::invalid_argument("--max-steps " + name + "=" + std::to_string(steps) +
+                                  ": must be at least 1");
   seed_ = es.seed >= 0 ? uint64_t(es.seed) : 0;
   rank_seed_ = derived_seed(seed_, uint64_t(rank()));
   int threads = es.num_threads > 0 ? es.num_threads : int(std::max(1u, std::thread::hardware_concurrency()));
@@ -194,17 +198,24 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
     throw std::invalid_argument(config_.source_file + ": " + e.what());
   }
   const EnvSpec& spec = env_->spec();
+  std::string known_behaviors;
+  for (const auto& bs : spec.behaviors)
+    known_behaviors += (known_behaviors.empty() ? "" : ", ") + bs.name;
   for (const auto& [name, b] : config_.behaviors)
-    if (spec.behavior_index(name) < 0) {
-      std::string known;
-      for (const auto& bs : spec.behaviors) known += (known.empty() ? "" : ", ") + bs.name;
+    if (spec.behavior_index(name) < 0)
       throw std::invalid_argument(config_.source_file + ": behaviors." + name + ": environment " +
-                                  spec.name + " has no behavior '" + name + "' (it has: " + known + ")");
-    }
+                                  spec.name + " has no behavior '" + name + "' (it has: " +
+                                  known_behaviors + ")");
+  for (const auto& [name, steps] : options_.behavior_max_steps)
+    if (spec.behavior_index(name) < 0)
+      throw std::invalid_argument("--max-steps " + name + "=" + std::to_string(steps) +
+                                  ": environment " + spec.name + " has no behavior '" + name +
+                                  "' (it has: " + known_behaviors + ")");
   for (int b = 0; b < int(spec.behaviors.size()); ++b) {
     const BehaviorSpec& bs = spec.behaviors[b];
     BehaviorConfig bc = behavior_config(config_, bs.name);
     if (options_.max_steps > 0) bc.max_steps = options_.max_steps;
+    if (options_.behavior_max_steps.count(bs.name)) bc.max_steps = options_.behavior_max_steps.at(bs.name);
     config_.behaviors[bs.name] = bc;
     torch::manual_seed(seed_ * 7919 + b);
     trainers_.push_back(
@@ -575,9 +586,11 @@ void TrainingRun::sample_all_parameters() {
 }
 
 void TrainingRun::apply_step_budgets() {
-  if (options_.max_steps > 0) return;
-  for (auto& t : trainers_)
+  for (auto& t : trainers_) {
+    // the command line's budgets hold over the lessons'
+    if (options_.max_steps > 0 || options_.behavior_max_steps.count(t->behavior())) continue;
     t->set_max_steps(parameters_.max_steps(t->behavior(), config_.behaviors.at(t->behavior()).max_steps));
+  }
 }
 
 void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished,

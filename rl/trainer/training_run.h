@@ -35,6 +35,9 @@ struct TrainOptions {
   int num_envs = 0;               // overrides env_settings.num_envs when > 0
   int64_t seed = -1;              // overrides env_settings.seed (and a resumed run's) when >= 0
   int64_t max_steps = 0;          // overrides every behavior's max_steps when > 0
+  // overrides the named behaviors' max_steps (over max_steps and the lessons' budgets); a name the
+  // environment does not have is an error
+  std::map<std::string, int64_t> behavior_max_steps;
   Parameters params;              // env parameters over env_settings.params (not curriculum ones)
   int threads = 0;                // env and LibTorch threads (0 = number of cores)
   bool write_results = true;      // false: no run folder (benchmarks)
@@ -91,7 +94,7 @@ class TrainingRun {
   // draws every instance's parameters for its next reset
   void sample_all_parameters();
   // Each trainer's max_steps: its own, raised by the behavior_max_steps of the lessons reached
-  // (not with --max-steps, which caps every behavior).
+  // (not for a behavior whose steps the command line sets: --max-steps N or BEHAVIOR=N).
   void apply_step_budgets();
   // the curriculum's values for one env's next episode, with the learning team's turn_parameters
   // over them

@@ -437,6 +437,30 @@ TEST_F(RltCliTest, TrainParamErrorsNameTheParameterAndWriteNothing) {
   }
 }
 
+// --max-steps N or NAME=N: a malformed value is a usage error (exit 2), a behavior the env does
+// not have an error naming the ones it has (exit 1); neither writes a run folder
+TEST_F(RltCliTest, TrainMaxStepsErrorsNameTheValueAndWriteNothing) {
+  const std::string config = std::string(RLT_SOURCE_DIR) + "/configs/hide_and_seek.yaml";
+  const fs::path results = root_ / "results_max_steps";
+  struct Case {
+    std::string flags, message;
+    int exit_code;
+  };
+  for (const Case& c :
+       {Case{"--max-steps Hidr=5", "has no behavior 'Hidr' (it has: Hider, Seeker)", 1},
+        Case{"--max-steps Hider=many", "--max-steps Hider=many: expected an integer, got 'many'", 2},
+        Case{"--max-steps Seeker=0", "--max-steps Seeker=0: must be at least 1, got 0", 2},
+        Case{"--max-steps =5", "--max-steps expects N or BEHAVIOR=N, got '=5'", 2},
+        Case{"--max-steps 5 --max-steps 6", "--max-steps N given twice", 2},
+        Case{"--max-steps Hider=5 --max-steps Hider=6", "--max-steps Hider given twice", 2}}) {
+    Result r = rlt("train " + quote(config) + " " + c.flags + " --run-id m --results-dir " +
+                   quote(results.string()));
+    EXPECT_EQ(r.exit_code, c.exit_code) << c.flags << ": " << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.flags << ": " << r.err;
+    EXPECT_FALSE(fs::exists(results / "m")) << c.flags;
+  }
+}
+
 // issue 5: the main job's config trains end to end (a few thousand steps: no update yet, the
 // buffer is 12,288; the first episodes end after 512 decisions) and both exported policies load
 // in a fresh process and act

@@ -1152,7 +1152,8 @@ TEST_F(TrainingRunTest, MetricLessonsOfABehaviorCountOnlyItsTurns) {
 
 // A lesson's behavior_max_steps: Blue stops at its own 300 steps while Red goes on to 1200; the
 // lesson Red's progress reaches at 0.5 gives Blue a budget of 900, and Blue takes turns again from
-// then on. Without the budget Blue stays at its 300; with --max-steps the command line caps both.
+// then on. Without the budget Blue stays at its 300; with --max-steps the command line caps both,
+// with --max-steps Blue=N Blue alone.
 TEST_F(TrainingRunTest, ALessonsStepBudgetLetsAFinishedBehaviorLearnAgain) {
   auto lessons = [](const std::string& budget) {
     return "environment_parameters:\n  level:\n    curriculum:\n"
@@ -1196,6 +1197,18 @@ TEST_F(TrainingRunTest, ALessonsStepBudgetLetsAFinishedBehaviorLearnAgain) {
   cap.train();
   EXPECT_EQ(cap.trainer(blue).config().max_steps, 600);
   EXPECT_LT(cap.trainer(blue).step(), 600 + 300);
+
+  // --max-steps Blue=500 holds Blue to 500 over the lesson's 900 and leaves Red its own 1200
+  auto named = options("named");
+  named.behavior_max_steps = {{"Blue", 500}};
+  TrainingRun one(config("        behavior_max_steps: {Blue: 900}\n"), named);
+  one.train();
+  EXPECT_EQ(one.parameters().lesson_names().at("level"), "second");
+  EXPECT_EQ(one.trainer(blue).config().max_steps, 500);
+  EXPECT_GE(one.trainer(blue).step(), 500);
+  EXPECT_LT(one.trainer(blue).step(), 500 + 300);
+  EXPECT_EQ(one.trainer(1 - blue).config().max_steps, 1200);
+  EXPECT_GE(one.trainer(1 - blue).step(), 1200);
 }
 
 TEST_F(TrainingRunTest, BadTurnParametersAreErrorsBeforeWriting) {
