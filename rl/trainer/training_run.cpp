@@ -214,8 +214,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   for (int b = 0; b < int(spec.behaviors.size()); ++b) {
     const BehaviorSpec& bs = spec.behaviors[b];
     BehaviorConfig bc = behavior_config(config_, bs.name);
-    if (options_.max_steps > 0) bc.max_steps = options_.max_steps;
-    if (options_.behavior_max_steps.count(bs.name)) bc.max_steps = options_.behavior_max_steps.at(bs.name);
+    if (const int64_t steps = command_line_max_steps(bs.name)) bc.max_steps = steps;
     config_.behaviors[bs.name] = bc;
     torch::manual_seed(seed_ * 7919 + b);
     trainers_.push_back(
@@ -585,10 +584,14 @@ void TrainingRun::sample_all_parameters() {
   std::fill(episode_turn_.begin(), episode_turn_.end(), self_play_->team_changes());
 }
 
+int64_t TrainingRun::command_line_max_steps(const std::string& behavior) const {
+  const auto named = options_.behavior_max_steps.find(behavior);
+  return named != options_.behavior_max_steps.end() ? named->second : options_.max_steps;
+}
+
 void TrainingRun::apply_step_budgets() {
   for (auto& t : trainers_) {
-    // the command line's budgets hold over the lessons'
-    if (options_.max_steps > 0 || options_.behavior_max_steps.count(t->behavior())) continue;
+    if (command_line_max_steps(t->behavior()) > 0) continue;  // over the lessons' budgets
     t->set_max_steps(parameters_.max_steps(t->behavior(), config_.behaviors.at(t->behavior()).max_steps));
   }
 }

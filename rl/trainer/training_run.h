@@ -96,6 +96,8 @@ class TrainingRun {
   // Each trainer's max_steps: its own, raised by the behavior_max_steps of the lessons reached
   // (not for a behavior whose steps the command line sets: --max-steps N or BEHAVIOR=N).
   void apply_step_budgets();
+  // the steps the command line gives a behavior (--max-steps NAME=N, else N), 0 when none
+  int64_t command_line_max_steps(const std::string& behavior) const;
   // the curriculum's values for one env's next episode, with the learning team's turn_parameters
   // over them
   Parameters next_parameters();
