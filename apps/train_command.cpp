@@ -37,6 +37,9 @@ A lesson's behavior_max_steps ({Seeker: 2000000}) raises those behaviors' max_st
 lesson on, so a behavior that had finished takes turns again. A completion_criteria's
 fallback_threshold (with fallback_length, in episodes) sends a lesson back to the one before when
 its measure over the last episodes falls to it; the log names the lessons and the measure.
+A lesson's staircase ({parameter: P, end: E, step_up: U, step_down: D}) starts P at the
+lesson's value and moves it U toward E after each counted episode above the criteria's
+threshold and D back after any other; the lesson ends when P reaches E.
 Every lesson's values are tried on the envs before training: one the env rejects is an error
 naming the parameter and the lesson.
 

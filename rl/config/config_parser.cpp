@@ -346,7 +346,12 @@ class Parser {
       const Val& value, const RunConfig& config,
       std::map<std::string, EnvironmentParameterSettings>* parameters) const;
   SamplerSettings parse_sampler(const Val& value) const;
-  std::vector<Lesson> parse_curriculum(const Val& value, const RunConfig& config) const;
+  std::vector<Lesson> parse_curriculum(const Val& value, const std::string& parameter,
+                                       const RunConfig& config) const;
+  Staircase parse_staircase(const Val& value) const;
+  // the staircase of `lesson` of the curriculum of `parameter` moves a constant of the lesson, and
+  // the lesson's criteria judge its episodes
+  void check_staircase(const Val& at, const Lesson& lesson, const std::string& parameter) const;
   CompletionCriteria parse_completion_criteria(const Val& value, const RunConfig& config) const;
   // Fails at `at` when `behavior` is not one the run trains. Without default_settings only the
   // listed behaviors are trained; with it, the environment may have behaviors the file does not
@@ -820,7 +825,7 @@ void Parser::parse_environment_parameters(
                std::string(key) + " does not go with curriculum: give each lesson its own value");
         }
       }
-      parameter.curriculum = parse_curriculum(*curriculum, config);
+      parameter.curriculum = parse_curriculum(*curriculum, name, config);
     } else {
       parameter.sampler = parse_sampler(v);
     }
@@ -927,7 +932,8 @@ SamplerSettings Parser::parse_sampler(const Val& value) const {
   return sampler;
 }
 
-std::vector<Lesson> Parser::parse_curriculum(const Val& value, const RunConfig& config) const {
+std::vector<Lesson> Parser::parse_curriculum(const Val& value, const std::string& parameter,
+                                             const RunConfig& config) const {
   if (!value.node.IsSequence() || value.node.size() == 0) {
     fail_expected(value, "a non-empty list of lessons (name, value, completion_criteria)");
   }
@@ -941,6 +947,7 @@ std::vector<Lesson> Parser::parse_curriculum(const Val& value, const RunConfig& 
       fail_expected(entry, "a lesson (a mapping of name, value, completion_criteria)");
     Lesson lesson;
     bool has_name = false, has_value = false;
+    std::optional<Val> staircase_at;
     dispatch(entry, {
                         {"name",
                          [&](const Val& v) {
@@ -976,12 +983,18 @@ std::vector<Lesson> Parser::parse_curriculum(const Val& value, const RunConfig& 
                              lesson.completion_criteria = parse_completion_criteria(v, config);
                            }
                          }},
+                        {"staircase",
+                         [&](const Val& v) {
+                           lesson.staircase = parse_staircase(v);
+                           staircase_at = v;
+                         }},
                     });
     if (!has_name) fail(join_path(entry.path, "name"), entry.line, "missing: the lesson's name");
     if (!has_value) {
       fail(join_path(entry.path, "value"), entry.line,
            "missing: the parameter's value during the lesson (a number or a sampler)");
     }
+    if (lesson.staircase) check_staircase(*staircase_at, lesson, parameter);
     lessons.push_back(std::move(lesson));
     locations.push_back(entry);
   }
@@ -1005,6 +1018,75 @@ std::vector<Lesson> Parser::parse_curriculum(const Val& value, const RunConfig& 
     }
   }
   return lessons;
+}
+
+Staircase Parser::parse_staircase(const Val& value) const {
+  if (!value.node.IsMap()) fail_expected(value, "a mapping of parameter, end, step_up, step_down");
+  Staircase staircase;
+  bool has_parameter = false, has_end = false, has_up = false, has_down = false;
+  dispatch(value, {
+                      {"parameter",
+                       [&](const Val& v) {
+                         staircase.parameter = read_string(v, false);
+                         has_parameter = true;
+                       }},
+                      {"end",
+                       [&](const Val& v) {
+                         staircase.end = read_real(v, kAnyReal);
+                         has_end = true;
+                       }},
+                      {"step_up",
+                       [&](const Val& v) {
+                         staircase.step_up = read_real(v, kPositiveReal);
+                         has_up = true;
+                       }},
+                      {"step_down",
+                       [&](const Val& v) {
+                         staircase.step_down = read_real(v, kNonNegativeReal);
+                         has_down = true;
+                       }},
+                  });
+  const auto missing = [&](const char* key, const std::string& what) {
+    fail(join_path(value.path, key), value.line, "missing: " + what);
+  };
+  if (!has_parameter) missing("parameter", "the parameter whose value the staircase moves");
+  if (!has_end) missing("end", "the value at which the lesson completes");
+  if (!has_up) missing("step_up", "how far an episode above the threshold moves the value");
+  if (!has_down) missing("step_down", "how far any other counted episode moves it back");
+  return staircase;
+}
+
+void Parser::check_staircase(const Val& at, const Lesson& lesson,
+                             const std::string& parameter) const {
+  const Staircase& staircase = *lesson.staircase;
+  const SamplerSettings* start = nullptr;
+  if (staircase.parameter == parameter) {
+    start = &lesson.value;
+  } else if (const auto found = lesson.other_parameters.find(staircase.parameter);
+             found != lesson.other_parameters.end()) {
+    start = &found->second;
+  } else {
+    std::string known = parameter;
+    for (const auto& [key, sampler] : lesson.other_parameters) known += ", " + key;
+    fail(join_path(at.path, "parameter"), at.line,
+         "'" + staircase.parameter + "' is not a parameter of lesson '" + lesson.name +
+             "' (it sets: " + known + ")");
+  }
+  if (start->type != SamplerType::kConstant) {
+    fail(join_path(at.path, "parameter"), at.line,
+         "lesson '" + lesson.name + "' draws " + staircase.parameter +
+             " from a sampler; a staircase starts from a constant value");
+  }
+  if (double(start->value) == staircase.end) {
+    fail(join_path(at.path, "end"), at.line,
+         "equals the start (" + format_float(start->value, true) + ", lesson '" + lesson.name +
+             "''s value of " + staircase.parameter + "): the staircase would have nowhere to go");
+  }
+  if (!lesson.completion_criteria ||
+      lesson.completion_criteria->measure == CompletionMeasure::kProgress) {
+    fail(at, "needs the lesson's completion_criteria with measure: reward or metric (what each "
+             "counted episode is judged on against its threshold)");
+  }
 }
 
 void Parser::check_behavior_configured(const Val& at, const std::string& behavior,
@@ -1408,6 +1490,16 @@ void emit_environment_parameters(
           if (criteria.fallback_length > 0)
             out << YAML::Key << "fallback_length" << YAML::Value << criteria.fallback_length;
         }
+        out << YAML::EndMap;
+      }
+      if (lesson.staircase) {
+        const Staircase& staircase = *lesson.staircase;
+        out << YAML::Key << "staircase" << YAML::Value << YAML::BeginMap;
+        out << YAML::Key << "parameter" << YAML::Value;
+        emit_string(out, staircase.parameter);
+        out << YAML::Key << "end" << YAML::Value << format_float(staircase.end, false);
+        out << YAML::Key << "step_up" << YAML::Value << format_float(staircase.step_up, false);
+        out << YAML::Key << "step_down" << YAML::Value << format_float(staircase.step_down, false);
         out << YAML::EndMap;
       }
       out << YAML::EndMap;

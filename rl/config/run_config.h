@@ -209,6 +209,28 @@ struct CompletionCriteria {
   bool operator!=(const CompletionCriteria& o) const { return !(*this == o); }
 };
 
+// Our extension: a lesson whose value for one parameter follows the hiders' (or any measured
+// behavior's) skill instead of staying fixed, by the weighted up-down staircase of Kaernbach
+// ("Simple adaptive testing with the weighted up-down method", Perception & Psychophysics 49,
+// 1991). The value starts at the lesson's own constant for the parameter; every episode the
+// lesson's completion_criteria counts moves it step_up toward `end` when its measure exceeds the
+// criteria's threshold and step_down back toward the start otherwise. It settles where the
+// share of episodes above the threshold is step_down / (step_up + step_down), so it climbs
+// while the skill is above that share and waits while it is below. The lesson completes once the
+// value has reached `end` (and the criteria's min_lesson_length episodes were counted).
+struct Staircase {
+  std::string parameter;  // the curriculum's own name or one of the lesson's other_parameters
+  double end = 1.0;       // the value at which the lesson completes
+  double step_up = 0.0;   // > 0: toward end after an episode above the threshold
+  double step_down = 0.0;  // >= 0: back toward the start after any other counted episode
+
+  bool operator==(const Staircase& o) const {
+    return parameter == o.parameter && end == o.end && step_up == o.step_up &&
+           step_down == o.step_down;
+  }
+  bool operator!=(const Staircase& o) const { return !(*this == o); }
+};
+
 struct Lesson {
   std::string name;
   SamplerSettings value;
@@ -224,11 +246,14 @@ struct Lesson {
   std::map<std::string, int64_t> behavior_max_steps;
   // Required on every lesson but the last; on the last lesson it is accepted and never used.
   std::optional<CompletionCriteria> completion_criteria;
+  // Our extension: the value of one parameter moves by the counted episodes (see Staircase);
+  // needs completion_criteria measuring reward or metric, also on the last lesson.
+  std::optional<Staircase> staircase;
 
   bool operator==(const Lesson& o) const {
     return name == o.name && value == o.value && other_parameters == o.other_parameters &&
            behavior_max_steps == o.behavior_max_steps &&
-           completion_criteria == o.completion_criteria;
+           completion_criteria == o.completion_criteria && staircase == o.staircase;
   }
   bool operator!=(const Lesson& o) const { return !(*this == o); }
 };

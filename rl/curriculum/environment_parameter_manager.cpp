@@ -109,7 +109,47 @@ std::string fallback_key(const CompletionCriteria& criteria) {
              : "reward:" + criteria.behavior;
 }
 
+// The value a lesson's staircase starts from: the lesson's constant for the staircase's parameter.
+double staircase_start(const Lesson& lesson, const std::string& curriculum) {
+  const std::string& parameter = lesson.staircase->parameter;
+  if (parameter == curriculum) return lesson.value.value;
+  const auto found = lesson.other_parameters.find(parameter);
+  return found == lesson.other_parameters.end() ? 0.0 : double(found->second.value);
+}
+
+// `value` held within the staircase of `lesson` (between its start and its end).
+double clamp_to_staircase(const Lesson& lesson, const std::string& curriculum, double value) {
+  const double start = staircase_start(lesson, curriculum), end = lesson.staircase->end;
+  return std::clamp(value, std::min(start, end), std::max(start, end));
+}
+
 }  // namespace
+
+void EnvironmentParameterManager::enter_lesson(const std::string& name, ParameterState& state,
+                                               int lesson) const {
+  state.lesson = lesson;
+  state.furthest = std::max(state.furthest, lesson);
+  const Lesson& entered = settings_.at(name).curriculum[lesson];
+  state.staircase = entered.staircase ? staircase_start(entered, name) : 0.0;
+}
+
+void EnvironmentParameterManager::move_staircases(bool metric, const std::string& key,
+                                                  double value) {
+  for (auto& [name, state] : state_) {
+    const Lesson& lesson = settings_.at(name).curriculum[state.lesson];
+    if (!lesson.staircase || !lesson.completion_criteria) continue;
+    const CompletionCriteria& criteria = *lesson.completion_criteria;
+    const bool measures_metric = criteria.measure == CompletionMeasure::kMetric;
+    if (measures_metric != metric) continue;
+    if ((metric ? metric_key(criteria.metric, criteria.behavior) : criteria.behavior) != key)
+      continue;
+    const Staircase& staircase = *lesson.staircase;
+    const double start = staircase_start(lesson, name);
+    const double toward_end = staircase.end > start ? 1.0 : -1.0;
+    const double step = value > criteria.threshold ? staircase.step_up : -staircase.step_down;
+    state.staircase = clamp_to_staircase(lesson, name, state.staircase + toward_end * step);
+  }
+}
 
 EnvironmentParameterManager::EnvironmentParameterManager(
     std::map<std::string, EnvironmentParameterSettings> settings)
@@ -117,6 +157,7 @@ EnvironmentParameterManager::EnvironmentParameterManager(
   for (const auto& [name, parameter] : settings_) {
     if (!parameter.is_curriculum()) continue;
     state_[name] = ParameterState{};
+    enter_lesson(name, state_[name], 0);
     for (const Lesson& lesson : parameter.curriculum) {
       if (!lesson.completion_criteria) continue;
       const CompletionCriteria& criteria = *lesson.completion_criteria;
@@ -149,6 +190,11 @@ Parameters EnvironmentParameterManager::sample(std::mt19937_64& rng) const {
     if (!parameter.is_curriculum()) continue;
     for (const auto& [other, sampler] : parameter.curriculum[state_.at(name).lesson].other_parameters)
       values[other] = draw(sampler, rng);
+  }
+  // a staircase replaces its parameter's constant (which took no draw)
+  for (const auto& [name, state] : state_) {
+    const Lesson& lesson = settings_.at(name).curriculum[state.lesson];
+    if (lesson.staircase) values[lesson.staircase->parameter] = float(state.staircase);
   }
   return values;
 }
@@ -214,7 +260,9 @@ std::vector<double> as_vector(const std::map<std::string, std::deque<double>>& b
 }  // namespace
 
 void EnvironmentParameterManager::add_episode_reward(const std::string& behavior, double reward) {
+  if (!capacity_.count(behavior) || !std::isfinite(reward)) return;
   record(capacity_, rewards_, behavior, reward);
+  move_staircases(false, behavior, reward);
   if (!fallbacks_.empty()) record(fallback_capacity_, fallbacks_, "reward:" + behavior, reward);
 }
 
@@ -228,7 +276,9 @@ void EnvironmentParameterManager::add_episode_metrics(
         std::find(learned_throughout.begin(), learned_throughout.end(), source.behavior) ==
             learned_throughout.end())
       continue;
+    if (!std::isfinite(value->second)) continue;
     record(metric_capacity_, metrics_, key, value->second);
+    move_staircases(true, key, value->second);
     if (!fallbacks_.empty()) record(fallback_capacity_, fallbacks_, "metric:" + key, value->second);
   }
 }
@@ -285,7 +335,7 @@ std::string EnvironmentParameterManager::fall_back_if_collapsed(const std::strin
   for (auto value = values.end() - length; value != values.end(); ++value) mean += *value;
   mean /= double(length);
   if (mean > *criteria.fallback_threshold) return "";
-  --state.lesson;
+  enter_lesson(name, state, state.lesson - 1);
   const std::string measured =
       criteria.measure == CompletionMeasure::kMetric ? criteria.metric : "reward";
   return "Curriculum " + name + ": back from lesson " + std::to_string(state.lesson + 1) + " (" +
@@ -302,6 +352,7 @@ void EnvironmentParameterManager::clear_buffers() {
 }
 
 bool EnvironmentParameterManager::completes(const CompletionCriteria& criteria,
+                                            const std::optional<Staircase>& staircase,
                                             ParameterState& state,
                                             const BehaviorProgress* progress) {
   const bool metric = criteria.measure == CompletionMeasure::kMetric;
@@ -309,6 +360,7 @@ bool EnvironmentParameterManager::completes(const CompletionCriteria& criteria,
       metric ? metrics_.at(metric_key(criteria.metric, criteria.behavior))
              : rewards_.at(criteria.behavior);
   if (int(values.size()) < criteria.min_lesson_length) return false;
+  if (staircase) return state.staircase == staircase->end;
   if (criteria.measure == CompletionMeasure::kProgress) {
     const double fraction =
         progress->max_steps > 0 ? double(progress->steps) / double(progress->max_steps) : 0.0;
@@ -337,9 +389,9 @@ LessonUpdate EnvironmentParameterManager::update(
     const bool measured_on_steps = criteria.measure != CompletionMeasure::kMetric;
     if (measured_on_steps && behavior == progress.end()) continue;  // no trainer yet
     const bool last = state.lesson + 1 >= int(lessons.size());      // the last lesson never ends
-    if (!last && completes(criteria, state, measured_on_steps ? &behavior->second : nullptr)) {
-      ++state.lesson;
-      state.furthest = std::max(state.furthest, state.lesson);
+    if (!last && completes(criteria, lesson.staircase, state,
+                           measured_on_steps ? &behavior->second : nullptr)) {
+      enter_lesson(name, state, state.lesson + 1);
       result.changed = true;
       if (criteria.require_reset) result.require_reset = true;
       continue;
@@ -353,7 +405,9 @@ LessonUpdate EnvironmentParameterManager::update(
   return result;
 }
 
-LessonUpdate EnvironmentParameterManager::follow(const std::map<std::string, int>& lessons) {
+LessonUpdate EnvironmentParameterManager::follow(
+    const std::map<std::string, int>& lessons,
+    const std::map<std::string, double>& staircase_values) {
   LessonUpdate result;
   for (auto& [name, state] : state_) {
     const auto it = lessons.find(name);
@@ -367,12 +421,25 @@ LessonUpdate EnvironmentParameterManager::follow(const std::map<std::string, int
       const auto& criteria = curriculum[l].completion_criteria;
       if (criteria && criteria->require_reset) result.require_reset = true;
     }
-    state.lesson = it->second;
-    state.furthest = std::max(state.furthest, state.lesson);
+    enter_lesson(name, state, it->second);
     result.changed = true;
   }
   if (result.changed) clear_buffers();
+  for (auto& [name, state] : state_) {
+    const auto value = staircase_values.find(name);
+    const Lesson& lesson = settings_.at(name).curriculum[state.lesson];
+    if (value == staircase_values.end() || !lesson.staircase || !std::isfinite(value->second))
+      continue;
+    state.staircase = clamp_to_staircase(lesson, name, value->second);
+  }
   return result;
+}
+
+std::map<std::string, double> EnvironmentParameterManager::staircase_values() const {
+  std::map<std::string, double> values;
+  for (const auto& [name, state] : state_)
+    if (settings_.at(name).curriculum[state.lesson].staircase) values[name] = state.staircase;
+  return values;
 }
 
 std::string EnvironmentParameterManager::serialize() const {
@@ -383,7 +450,11 @@ std::string EnvironmentParameterManager::serialize() const {
             ": {\"lesson\": " + std::to_string(state.lesson) +
             ", \"lesson_name\": " + json_quote(settings_.at(name).curriculum[state.lesson].name) +
             ", \"smoothed_value\": " + number_text(state.smoothed) +
-            ", \"furthest_lesson\": " + std::to_string(state.furthest) + "}";
+            ", \"furthest_lesson\": " + std::to_string(state.furthest) +
+            (settings_.at(name).curriculum[state.lesson].staircase
+                 ? ", \"staircase_value\": " + number_text(state.staircase)
+                 : std::string()) +
+            "}";
     first = false;
   }
   const auto buffers_text = [](const std::map<std::string, std::deque<double>>& buffers) {
@@ -439,8 +510,20 @@ void EnvironmentParameterManager::deserialize(const std::string& state) {
                   "', which the config calls '" + expected +
                   "': its curriculum changed since (start a new run, or restore the old lessons)");
       }
-      found->second.lesson = int(lesson);
+      enter_lesson(name, found->second, int(lesson));  // its staircase at its start
       found->second.furthest = int(lesson);  // states from before fallbacks: never went back
+      const Lesson& at = settings_.at(name).curriculum[int(lesson)];
+      if (at.staircase && values["staircase_value"]) {
+        const double value =
+            read_number(values["staircase_value"], "parameters." + name + ".staircase_value");
+        if (clamp_to_staircase(at, name, value) != value) {
+          bad_state("parameters." + name + ".staircase_value: " + number_text(value) +
+                    " is outside lesson '" + expected + "''s staircase (from " +
+                    number_text(staircase_start(at, name)) + " to " +
+                    number_text(at.staircase->end) + ")");
+        }
+        found->second.staircase = value;
+      }
       if (values["furthest_lesson"]) {
         const double furthest =
             read_number(values["furthest_lesson"], "parameters." + name + ".furthest_lesson");

@@ -35,8 +35,15 @@
 // - Our extension, a lesson's `behavior_max_steps`: max_steps() gives a behavior's step budget
 //   as the largest of its own and the budgets of every lesson reached so far (the furthest
 //   lesson reached counts, so a budget holds from its lesson on even after a fallback).
-// - serialize() / deserialize() carry the lessons, the smoothed values and the buffers over
-//   --resume exactly.
+// - Our extension, a lesson's `staircase` (rl/config/run_config.h, Staircase): while a curriculum
+//   is at such a lesson, sample() gives the staircase's current value for its parameter, and
+//   every episode recorded into the buffer its criteria measure moves that value (toward `end`
+//   when the episode's measure exceeds the threshold, back toward the start otherwise, never past
+//   either). The lesson completes once the value is at `end` and min_lesson_length episodes were
+//   counted; its fallback works as for any lesson. Entering a lesson (forward, back or by
+//   follow()) starts its staircase at the lesson's own value.
+// - serialize() / deserialize() carry the lessons, the smoothed values, the staircases' values and
+//   the buffers over --resume exactly.
 //
 // No LibTorch here. Not thread-safe: one thread drives a manager.
 #pragma once
@@ -44,6 +51,7 @@
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -123,8 +131,14 @@ class EnvironmentParameterManager {
   LessonUpdate update(const std::map<std::string, BehaviorProgress>& progress);
   // Moves to the lessons another manager decided (data-parallel training: rank 0 decides, the
   // others follow): what update() returns when it moved them, buffers cleared alike. Lessons that
-  // `lessons` does not name stay.
-  LessonUpdate follow(const std::map<std::string, int>& lessons);
+  // `lessons` does not name stay. `staircase_values` then sets the staircases of the parameters
+  // it names that are at a staircase lesson (a value outside the staircase's range is clamped);
+  // moving a staircase is no lesson change.
+  LessonUpdate follow(const std::map<std::string, int>& lessons,
+                      const std::map<std::string, double>& staircase_values = {});
+  // The current value of each curriculum parameter's staircase (named by the curriculum, not by
+  // the parameter the staircase moves), for the curricula at a staircase lesson only.
+  std::map<std::string, double> staircase_values() const;
 
   // The state (lessons, smoothed values, reward buffers) as one JSON object, with every number
   // written so that it reads back bit for bit. Also valid YAML.
@@ -141,11 +155,18 @@ class EnvironmentParameterManager {
     int lesson = 0;
     int furthest = 0;  // the furthest lesson reached
     double smoothed = 0.0;
+    double staircase = 0.0;  // the staircase's value, when the lesson has one
   };
-  // Whether the lesson measured by `criteria` is complete (updating the smoothed value);
-  // `progress` is the measured behavior's, null for a metric.
-  bool completes(const CompletionCriteria& criteria, ParameterState& state,
-                 const BehaviorProgress* progress);
+  // Moves `state` to `lesson` (furthest included) and starts that lesson's staircase.
+  void enter_lesson(const std::string& name, ParameterState& state, int lesson) const;
+  // One counted episode whose measure `value` went into the buffer `key` (reward: the behavior;
+  // metric: metric_key()) moves the staircases whose lesson's criteria measure that buffer.
+  void move_staircases(bool metric, const std::string& key, double value);
+  // Whether the lesson measured by `criteria` is complete (updating the smoothed value); a
+  // staircase lesson is when its value is at the end. `progress` is the measured behavior's,
+  // null for a metric.
+  bool completes(const CompletionCriteria& criteria, const std::optional<Staircase>& staircase,
+                 ParameterState& state, const BehaviorProgress* progress);
   // Goes back one lesson when the current lesson's fallback criterion says so; returns the
   // sentence for LessonUpdate::fallbacks, or "" when the lesson stays.
   std::string fall_back_if_collapsed(const std::string& name, ParameterState& state);

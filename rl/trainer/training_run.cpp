@@ -497,6 +497,12 @@ void TrainingRun::sync_ranks() {
     mine.push_back(double(trainers_[b]->buffered()));
   }
   for (const auto& [name, lesson] : lessons) mine.push_back(rank() == 0 ? lesson : 0);
+  // the staircases' values, one per curriculum (0 where none)
+  const std::map<std::string, double> staircases = parameters_.staircase_values();
+  for (const auto& [name, lesson] : lessons) {
+    const auto value = staircases.find(name);
+    mine.push_back(rank() == 0 && value != staircases.end() ? value->second : 0.0);
+  }
   for (double e : elo) mine.push_back(rank() == 0 ? e : 0);
   const std::vector<double> all = comm.all_gather(mine, "agreeing on the steps");  // [W][stride]
   const size_t stride = mine.size();
@@ -518,7 +524,9 @@ void TrainingRun::sync_ranks() {
   size_t at = 2 * size_t(nb);
   std::map<std::string, int> decided;
   for (const auto& [name, lesson] : lessons) decided[name] = int(all[at++]);
-  const LessonUpdate u = parameters_.follow(decided);
+  std::map<std::string, double> decided_staircases;
+  for (const auto& [name, lesson] : lessons) decided_staircases[name] = all[at++];
+  const LessonUpdate u = parameters_.follow(decided, decided_staircases);
   pending_follow_.changed |= u.changed;
   pending_follow_.require_reset |= u.require_reset;
   self_play_->set_elo_state(std::vector<double>(all.begin() + at, all.begin() + at + elo.size()));
@@ -845,6 +853,8 @@ void TrainingRun::summarize(int b) {
   }
   if (t.config().self_play) os << " ELO: " << self_play_->elo(b) << ".";
   for (const auto& [name, lesson] : parameters_.lessons()) os << " Lesson " << name << ": " << lesson << ".";
+  for (const auto& [name, value] : parameters_.staircase_values())
+    os << " Staircase " << name << ": " << value << ".";
   for (const auto& [name, sum_count] : summary_metrics_[b])
     os << " " << name << ": " << sum_count.first / sum_count.second << ".";
   for (int i = 0; i < int(strategies_.strategies().size()); ++i) {
@@ -901,6 +911,8 @@ void TrainingRun::write_tensorboard(int b) {
   if (t.config().self_play) scalars.emplace_back("Self-play/ELO", float(self_play_->elo(b)));
   for (const auto& [name, lesson] : parameters_.lessons())
     scalars.emplace_back("Environment/Lesson Number/" + name, float(lesson));
+  for (const auto& [name, value] : parameters_.staircase_values())
+    scalars.emplace_back("Environment/Staircase/" + name, float(value));
   for (const auto& [name, sum_count] : summary_metrics_[b])
     scalars.emplace_back("Environment/" + name, float(sum_count.first / sum_count.second));
   for (int i = 0; i < int(strategies_.strategies().size()); ++i) {
@@ -971,6 +983,8 @@ std::string TrainingRun::summary_table() const {
   const auto names = parameters_.lesson_names();
   for (const auto& [name, lesson] : parameters_.lessons())
     out += "Lesson " + name + ": " + std::to_string(lesson) + " (" + names.at(name) + ")\n";
+  for (const auto& [name, value] : parameters_.staircase_values())
+    out += "Staircase " + name + ": " + fixed(value, 3) + "\n";
   if (!strategies_.empty()) {
     std::vector<std::vector<std::string>> s = {
         {"strategy", "behavior", "metric", "rate", "emerged at step", "after"}};

@@ -712,6 +712,71 @@ TEST(ConfigParserTest, MetricMeasuredLessonRoundTrips) {
   EXPECT_EQ(run_config_to_yaml(again), yaml);
 }
 
+// Lesson A of parameter h sets offset 0, is judged on the fort rate (or `criteria`) and has the
+// staircase `staircase`; lesson B follows.
+std::string with_staircase(const std::string& staircase,
+                           const std::string& criteria = "          measure: metric\n"
+                                                         "          metric: fort_rate\n"
+                                                         "          threshold: 0.5\n") {
+  return with_parameters(R"(  h:
+    curriculum:
+      - name: A
+        value: 1
+        other_parameters: {offset: 0}
+        completion_criteria:
+)" + criteria + "        staircase:\n" + staircase + R"(      - name: B
+        value: 2
+        other_parameters: {offset: 1}
+)");
+}
+
+TEST(ConfigParserTest, StaircaseLessonRoundTrips) {
+  const RunConfig config = parse(with_staircase(
+      "          parameter: offset\n          end: 1\n          step_up: 0.015\n"
+      "          step_down: 0.005\n"));
+  const Lesson& lesson = config.environment_parameters.at("h").curriculum[0];
+  ASSERT_TRUE(lesson.staircase.has_value());
+  EXPECT_EQ(*lesson.staircase, (Staircase{"offset", 1.0, 0.015, 0.005}));
+  EXPECT_FALSE(config.environment_parameters.at("h").curriculum[1].staircase.has_value());
+  const std::string yaml = run_config_to_yaml(config);
+  EXPECT_NE(yaml.find("staircase:"), std::string::npos) << yaml;
+  const RunConfig again = parse(yaml);
+  EXPECT_EQ(again.environment_parameters.at("h").curriculum, config.environment_parameters.at("h").curriculum);
+  EXPECT_EQ(run_config_to_yaml(again), yaml);
+  // the curriculum's own value may be the one that moves, downward too
+  EXPECT_EQ(parse(with_staircase("          parameter: h\n          end: 0.5\n"
+                                 "          step_up: 0.1\n          step_down: 0\n"))
+                .environment_parameters.at("h")
+                .curriculum[0]
+                .staircase,
+            (Staircase{"h", 0.5, 0.1, 0.0}));
+}
+
+TEST(ConfigParserErrorTest, StaircaseErrors) {
+  const std::string path = "environment_parameters.h.curriculum[0].staircase";
+  const std::string steps = "          step_up: 0.1\n          step_down: 0.1\n";
+  expect_error(with_staircase("          parameter: ofset\n          end: 1\n" + steps),
+               path + ".parameter", 15, "'ofset' is not a parameter of lesson 'A' (it sets: h, offset)");
+  expect_error(with_staircase("          parameter: offset\n          end: 0\n" + steps),
+               path + ".end", 15, "equals the start (0.0, lesson 'A''s value of offset)");
+  expect_error(with_staircase("          parameter: offset\n          end: 1\n"
+                              "          step_up: 0\n          step_down: 0.1\n"),
+               path + ".step_up", 18, "expected a number > 0, got '0'");
+  expect_error(with_staircase("          parameter: offset\n          end: 1\n"
+                              "          step_up: 0.1\n          step_down: -1\n"),
+               path + ".step_down", 19, "expected a number >= 0, got '-1'");
+  expect_error(with_staircase("          parameter: offset\n          step_up: 0.1\n"
+                              "          step_down: 0.1\n"),
+               path + ".end", 15, "missing: the value at which the lesson completes");
+  expect_error(with_staircase("          parameter: offset\n          end: 1\n" + steps,
+                              "          behavior: CartPole\n          measure: progress\n"
+                              "          threshold: 0.5\n"),
+               path, 15, "needs the lesson's completion_criteria with measure: reward or metric");
+  expect_error(with_staircase("          parameter: offset\n          end: 1\n          stepup: 0.1\n"),
+               path, 18, "unknown key 'stepup' (did you mean 'step_up'?)");
+  expect_error(with_staircase("          3\n"), path, 15, "expected a mapping of parameter, end");
+}
+
 TEST(ConfigParserTest, FallbackCriteriaRoundTrip) {
   for (const std::string length : {"", "          fallback_length: 200\n"}) {
     const RunConfig config = parse(with_criteria(

@@ -649,5 +649,120 @@ TEST(EnvironmentParameterManagerTest, TheLastLessonFallsBackAndCompletionIsUncha
   EXPECT_EQ(plain.lessons().at("height"), 1);
 }
 
+// A level whose first lesson moves `offset` from 0 to 1 by a staircase on the fort rate
+// (threshold 0.5: an episode that closed the room goes up 0.25, any other down 0.1), then a
+// lesson at the own places.
+EnvironmentParameterManager staircase_lessons(int min_lesson_length = 0) {
+  CompletionCriteria forts;
+  forts.measure = CompletionMeasure::kMetric;
+  forts.metric = "fort_rate";
+  forts.threshold = 0.5;
+  forts.min_lesson_length = min_lesson_length;
+  forts.signal_smoothing = false;
+  Lesson climb = lesson("Climb", 2.f, forts);
+  climb.other_parameters["offset"] = SamplerSettings::constant(0.f);
+  climb.staircase = Staircase{"offset", 1.0, 0.25, 0.1};
+  Lesson own = lesson("Own", 2.f);
+  own.other_parameters["offset"] = SamplerSettings::constant(1.f);
+  return EnvironmentParameterManager({{"level", curriculum({climb, own})}});
+}
+
+TEST(EnvironmentParameterManagerTest, AStaircaseClimbsOnSuccessAndStepsBackOnFailure) {
+  EnvironmentParameterManager manager = staircase_lessons();
+  EXPECT_EQ(manager.sample(1).at("offset"), 0.f);  // the lesson's own value first
+  add_forts(&manager, {1.f, 1.f});                 // 0.25, 0.5
+  EXPECT_DOUBLE_EQ(manager.staircase_values().at("level"), 0.5);
+  add_forts(&manager, {0.f, 0.5f});  // at the threshold is no success: 0.4, 0.3
+  EXPECT_DOUBLE_EQ(manager.staircase_values().at("level"), 0.3);
+  EXPECT_FLOAT_EQ(manager.sample(1).at("offset"), 0.3f);
+  EXPECT_FALSE(manager.update({}).changed);  // not at the end yet
+  add_forts(&manager, {0.f, 0.f, 0.f, 0.f});  // never below the start
+  EXPECT_DOUBLE_EQ(manager.staircase_values().at("level"), 0.0);
+  add_forts(&manager, {1.f, 1.f, 1.f, 1.f, 1.f});  // never past the end
+  EXPECT_DOUBLE_EQ(manager.staircase_values().at("level"), 1.0);
+  // episodes that are not counted (not finite, or without the metric) do not move it
+  add_forts(&manager, {float(NAN)});
+  manager.add_episode_metrics({{"tag_rate", 0.f}});
+  EXPECT_DOUBLE_EQ(manager.staircase_values().at("level"), 1.0);
+  // at the end the lesson completes; the next lesson has no staircase
+  EXPECT_TRUE(manager.update({}).changed);
+  EXPECT_EQ(manager.lesson_names().at("level"), "Own");
+  EXPECT_TRUE(manager.staircase_values().empty());
+  EXPECT_EQ(manager.sample(1).at("offset"), 1.f);
+}
+
+// The control: the same episodes with no staircase leave the offset where the lesson set it.
+TEST(EnvironmentParameterManagerTest, WithoutAStaircaseTheLessonsValueStays) {
+  EnvironmentParameterManager manager = staircase_lessons();
+  EnvironmentParameterSettings settings = manager.settings().at("level");
+  settings.curriculum[0].staircase.reset();
+  EnvironmentParameterManager plain({{"level", settings}});
+  add_forts(&plain, {1.f, 1.f, 1.f, 1.f, 1.f});
+  EXPECT_EQ(plain.sample(1).at("offset"), 0.f);
+  EXPECT_TRUE(plain.staircase_values().empty());
+}
+
+TEST(EnvironmentParameterManagerTest, AStaircaseAtItsEndStillWaitsForMinLessonLength) {
+  EnvironmentParameterManager manager = staircase_lessons(6);
+  add_forts(&manager, {1.f, 1.f, 1.f, 1.f});
+  EXPECT_DOUBLE_EQ(manager.staircase_values().at("level"), 1.0);
+  EXPECT_FALSE(manager.update({}).changed);  // 4 episodes < 6
+  add_forts(&manager, {1.f, 1.f});
+  EXPECT_TRUE(manager.update({}).changed);
+}
+
+// A staircase may run downward (end below the start): success moves it toward the end.
+TEST(EnvironmentParameterManagerTest, ADownwardStaircaseMovesTowardItsEnd) {
+  CompletionCriteria jumps = reward_criteria("Jumper", 10.0, 0);
+  Lesson shrink = lesson("Shrink", 8.f, jumps);
+  shrink.staircase = Staircase{"height", 2.0, 3.0, 1.0};
+  EnvironmentParameterManager manager({{"height", curriculum({shrink, lesson("Low", 2.f)})}});
+  manager.add_episode_reward("Jumper", 11.0);  // 5
+  manager.add_episode_reward("Jumper", 3.0);   // 6
+  EXPECT_FLOAT_EQ(manager.sample(1).at("height"), 6.f);
+  manager.add_episode_reward("Jumper", 3.0);  // 7
+  manager.add_episode_reward("Jumper", 3.0);  // 8
+  manager.add_episode_reward("Jumper", 3.0);  // still 8: never above the start
+  manager.add_episode_reward("Jumper", 20.0);
+  manager.add_episode_reward("Jumper", 20.0);
+  EXPECT_DOUBLE_EQ(manager.staircase_values().at("height"), 2.0);
+  EXPECT_TRUE(manager.update(kJumperProgress).changed);
+}
+
+TEST(EnvironmentParameterManagerTest, AStaircaseSurvivesAResumeAndFollowsRankZero) {
+  EnvironmentParameterManager manager = staircase_lessons();
+  add_forts(&manager, {1.f, 1.f, 0.f});  // 0.4
+  EnvironmentParameterManager resumed = staircase_lessons();
+  resumed.deserialize(manager.serialize());
+  EXPECT_DOUBLE_EQ(resumed.staircase_values().at("level"), 0.4);
+  add_forts(&manager, {1.f});
+  add_forts(&resumed, {1.f});
+  EXPECT_EQ(resumed.staircase_values(), manager.staircase_values());
+  // a state whose value lies outside the lesson's staircase is refused, the manager unchanged
+  std::string state = manager.serialize();
+  const std::string value = "\"staircase_value\": 0.65";
+  ASSERT_NE(state.find(value), std::string::npos) << state;
+  state.replace(state.find(value), value.size(), "\"staircase_value\": 1.5");
+  try {
+    resumed.deserialize(state);
+    FAIL() << "a staircase value of 1.5 was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("parameters.level.staircase_value: 1.5 is outside"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_DOUBLE_EQ(resumed.staircase_values().at("level"), 0.65);
+  // another rank takes rank 0's value without a lesson change (its buffers stay)
+  EnvironmentParameterManager follower = staircase_lessons();
+  add_forts(&follower, {0.f});
+  EXPECT_FALSE(follower.follow({{"level", 0}}, {{"level", 0.65}}).changed);
+  EXPECT_DOUBLE_EQ(follower.staircase_values().at("level"), 0.65);
+  EXPECT_EQ(follower.metric_buffer("fort_rate"), (std::vector<double>{0.0}));
+  // entering the lesson again starts its staircase over
+  follower.follow({{"level", 1}});
+  follower.follow({{"level", 0}});
+  EXPECT_DOUBLE_EQ(follower.staircase_values().at("level"), 0.0);
+}
+
 }  // namespace
 }  // namespace rlt
