@@ -39,9 +39,10 @@ fallback_threshold (with fallback_length, in episodes) sends a lesson back to th
 its measure over the last episodes falls to it; the log names the lessons and the measure.
 A lesson's staircase ({parameter: P, end: E, step_up: U, step_down: D}) starts P at the
 lesson's value and moves it U toward E after each counted episode above the criteria's
-threshold and D back after any other; the lesson ends when P reaches E.
-Every lesson's values are tried on the envs before training: one the env rejects is an error
-naming the parameter and the lesson.
+threshold and D back after any other; the lesson ends when P reaches E (with --nproc, rank 0's
+episodes move it).
+Every lesson's values (both ends of a staircase) are tried on the envs before training: one
+the env rejects is an error naming the parameter and the lesson.
 
 Options:
   --run-id ID            run folder name (default: checkpoint_settings.run_id)

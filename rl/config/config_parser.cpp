@@ -1077,7 +1077,8 @@ void Parser::check_staircase(const Val& at, const Lesson& lesson,
          "lesson '" + lesson.name + "' draws " + staircase.parameter +
              " from a sampler; a staircase starts from a constant value");
   }
-  if (double(start->value) == staircase.end) {
+  // compared as the env gets it (a float): 0.3 and 0.3f are one value there
+  if (start->value == float(staircase.end)) {
     fail(join_path(at.path, "end"), at.line,
          "equals the start (" + format_float(start->value, true) + ", lesson '" + lesson.name +
              "''s value of " + staircase.parameter + "): the staircase would have nowhere to go");

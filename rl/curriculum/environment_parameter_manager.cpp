@@ -135,6 +135,7 @@ void EnvironmentParameterManager::enter_lesson(const std::string& name, Paramete
 
 void EnvironmentParameterManager::move_staircases(bool metric, const std::string& key,
                                                   double value) {
+  if (staircases_follow_only_) return;
   for (auto& [name, state] : state_) {
     const Lesson& lesson = settings_.at(name).curriculum[state.lesson];
     if (!lesson.staircase || !lesson.completion_criteria) continue;

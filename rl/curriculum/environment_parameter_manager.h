@@ -39,8 +39,10 @@
 //   is at such a lesson, sample() gives the staircase's current value for its parameter, and
 //   every episode recorded into the buffer its criteria measure moves that value (toward `end`
 //   when the episode's measure exceeds the threshold, back toward the start otherwise, never past
-//   either). The lesson completes once the value is at `end` and min_lesson_length episodes were
-//   counted; its fallback works as for any lesson. Entering a lesson (forward, back or by
+//   either; the criteria's threshold judges each episode, and signal_smoothing is not used). The
+//   lesson completes when update() finds the value at `end` and min_lesson_length episodes
+//   counted; its fallback works as for any lesson. A staircase on the last lesson moves and never
+//   completes. Entering a lesson (forward, back or by
 //   follow()) starts its staircase at the lesson's own value.
 // - serialize() / deserialize() carry the lessons, the smoothed values, the staircases' values and
 //   the buffers over --resume exactly.
@@ -136,6 +138,9 @@ class EnvironmentParameterManager {
   // moving a staircase is no lesson change.
   LessonUpdate follow(const std::map<std::string, int>& lessons,
                       const std::map<std::string, double>& staircase_values = {});
+  // With `true`, recorded episodes no longer move the staircases; only follow() sets them
+  // (data-parallel training: the ranks other than 0, so that every rank plays rank 0's values).
+  void set_staircases_follow_only(bool follow_only) { staircases_follow_only_ = follow_only; }
   // The current value of each curriculum parameter's staircase (named by the curriculum, not by
   // the parameter the staircase moves), for the curricula at a staircase lesson only.
   std::map<std::string, double> staircase_values() const;
@@ -174,6 +179,7 @@ class EnvironmentParameterManager {
 
   std::map<std::string, EnvironmentParameterSettings> settings_;
   std::map<std::string, ParameterState> state_;        // curriculum parameters only
+  bool staircases_follow_only_ = false;                // see set_staircases_follow_only()
   std::map<std::string, int> capacity_;                // reward buffer size per measured behavior
   std::map<std::string, std::deque<double>> rewards_;  // per measured behavior, oldest first
   // Metric buffers are keyed by metric_key(): the metric, and the behavior when the criterion names

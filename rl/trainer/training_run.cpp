@@ -166,6 +166,8 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   env_ = std::make_unique<VectorEnv>(es.env_id, es.num_envs, rank_seed_, es.params,
                                      std::min(threads, es.num_envs));
   parameters_ = EnvironmentParameterManager(config_.environment_parameters);
+  // data-parallel: rank 0's episodes move the staircases and the others take its values
+  parameters_.set_staircases_follow_only(rank() != 0);
   parameter_rng_.seed(rank_seed_ * 6151 + 11);
   // names are checked by set_parameters, values by the envs at reset: each behavior's turn
   // parameters first, then the first lessons, before anything is written
@@ -302,6 +304,12 @@ void TrainingRun::check_every_lesson() {
         // one draw of the lesson's samplers, from an engine of its own (the run's stays untouched)
         env_->set_parameters(at_lesson.sample(uint64_t(lesson)));
         env_->reset();
+        // a staircase's far end too: its start is the lesson's own value, tried above
+        if (const auto& staircase = parameter.curriculum[lesson].staircase) {
+          at_lesson.follow({}, {{name, staircase->end}});
+          env_->set_parameters(at_lesson.sample(uint64_t(lesson)));
+          env_->reset();
+        }
       } catch (const std::exception& e) {
         throw std::invalid_argument(config_.source_file + ": environment_parameters." + name +
                                     ", lesson '" + parameter.curriculum[lesson].name + "': " +
@@ -490,7 +498,7 @@ void TrainingRun::sync_ranks() {
   const std::map<std::string, int> lessons = parameters_.lessons();  // the same names on every rank
   const std::vector<double> elo = self_play_->elo_state();
   // this rank's slot: per behavior its decisions since the last sync and its buffered experiences;
-  // then rank 0's lessons and ratings (zeros elsewhere)
+  // then rank 0's lessons, staircase values and ratings (zeros elsewhere)
   std::vector<double> mine;
   for (int b = 0; b < nb; ++b) {
     mine.push_back(double(trainers_[b]->step() - synced_step_[b]));

@@ -775,6 +775,12 @@ TEST(ConfigParserErrorTest, StaircaseErrors) {
   expect_error(with_staircase("          parameter: offset\n          end: 1\n          stepup: 0.1\n"),
                path, 18, "unknown key 'stepup' (did you mean 'step_up'?)");
   expect_error(with_staircase("          3\n"), path, 15, "expected a mapping of parameter, end");
+  // the start as the env gets it: 0.3 as a float is the end 0.3
+  expect_error(with_parameters("  h:\n    curriculum:\n      - name: A\n        value: 0.3\n"
+                               "        completion_criteria: {behavior: CartPole, threshold: 1}\n"
+                               "        staircase: {parameter: h, end: 0.3, step_up: 1, step_down: 1}\n"
+                               "      - name: B\n        value: 2\n"),
+               path + ".end", 11, "equals the start (0.3, lesson 'A''s value of h)");
 }
 
 TEST(ConfigParserTest, FallbackCriteriaRoundTrip) {

@@ -758,6 +758,12 @@ TEST(EnvironmentParameterManagerTest, AStaircaseSurvivesAResumeAndFollowsRankZer
   EXPECT_FALSE(follower.follow({{"level", 0}}, {{"level", 0.65}}).changed);
   EXPECT_DOUBLE_EQ(follower.staircase_values().at("level"), 0.65);
   EXPECT_EQ(follower.metric_buffer("fort_rate"), (std::vector<double>{0.0}));
+  // a follower's own episodes do not move its staircase: only rank 0's values do
+  follower.set_staircases_follow_only(true);
+  add_forts(&follower, {1.f, 1.f, 0.f});
+  EXPECT_DOUBLE_EQ(follower.staircase_values().at("level"), 0.65);
+  follower.follow({}, {{"level", 0.8}});
+  EXPECT_DOUBLE_EQ(follower.staircase_values().at("level"), 0.8);
   // entering the lesson again starts its staircase over
   follower.follow({{"level", 1}});
   follower.follow({{"level", 0}});

@@ -509,6 +509,19 @@ TEST_F(TrainingRunTest, SelfPlayWithTwoBehaviorsAndACurriculumResumesBitIdentica
   }
 }
 
+// The Echo behavior and lesson A of x (x = 0, ending after two episodes), to which the configs
+// below add lessons B and C.
+std::string echo_lesson_a() {
+  return "behaviors:\n  Echo:\n    trainer_type: ppo\n"
+         "    hyperparameters: {batch_size: 16, buffer_size: 64, num_epoch: 1}\n"
+         "    network_settings: {hidden_units: 8, num_layers: 1}\n"
+         "    max_steps: 400\n    summary_freq: 100000\n    checkpoint_interval: 100000\n"
+         "environment_parameters:\n  x:\n    curriculum:\n"
+         "      - name: A\n        value: 0\n"
+         "        completion_criteria: {measure: metric, metric: value, threshold: -1, "
+         "min_lesson_length: 2}\n";
+}
+
 // LessonEchoEnv with a curriculum on x measured by its episode metrics: lesson A ends after two
 // episodes (any value), lesson B when an episode played in it reports x < 0.5, which only an
 // episode begun in lesson A (x = 0) can.
@@ -517,14 +530,7 @@ RunConfig echo_curriculum_config(const std::string& second_metric,
                                   const std::string& second_threshold = "0",
                                   const std::string& last_value = "2") {
   std::ostringstream y;
-  y << "behaviors:\n  Echo:\n    trainer_type: ppo\n"
-    << "    hyperparameters: {batch_size: 16, buffer_size: 64, num_epoch: 1}\n"
-    << "    network_settings: {hidden_units: 8, num_layers: 1}\n"
-    << "    max_steps: 400\n    summary_freq: 100000\n    checkpoint_interval: 100000\n"
-    << "environment_parameters:\n  x:\n    curriculum:\n"
-    << "      - name: A\n        value: 0\n"
-    << "        completion_criteria: {measure: metric, metric: value, threshold: -1, "
-       "min_lesson_length: 2}\n"
+  y << echo_lesson_a()
     << "      - name: B\n        value: 1\n"
     << "        completion_criteria: {measure: metric, metric: " << second_metric
     << ", threshold: " << second_threshold
@@ -579,6 +585,46 @@ TEST_F(TrainingRunTest, ALessonValueTheEnvRejectsIsAnErrorBeforeWriting) {
         << e.what();
   }
   EXPECT_FALSE(fs::exists(dir_ / "echo_bad_lesson"));
+}
+
+// Lesson B of x moves x from 1 toward `end` by a staircase judged on the episodes' `value` (x
+// itself, which LessonEchoEnv accepts up to 10) against `threshold`; lesson C sets x = 2.
+RunConfig echo_staircase_config(const std::string& end, const std::string& threshold) {
+  std::ostringstream y;
+  y << echo_lesson_a()
+    << "      - name: B\n        value: 1\n"
+    << "        completion_criteria: {measure: metric, metric: value, threshold: " << threshold
+    << ", min_lesson_length: 1}\n"
+    << "        staircase: {parameter: x, end: " << end << ", step_up: 1, step_down: 1}\n"
+    << "      - name: C\n        value: 2\n"
+    << "env_settings: {env_id: LessonEchoEnv, num_envs: 3, seed: 0}\n";
+  return load_run_config_from_string(y.str(), "echo.yaml");
+}
+
+TEST_F(TrainingRunTest, AStaircaseClimbsThroughItsLessonInARun) {
+  // every episode in B reports its x (>= 1) above 0.5: x climbs 1, 2, ... to 4 and B ends
+  TrainingRun run(echo_staircase_config("4", "0.5"), options("echo_staircase"));
+  run.train();
+  EXPECT_EQ(run.parameters().lesson_names().at("x"), "C");
+  EXPECT_TRUE(run.parameters().staircase_values().empty());
+  // the control: judged against 100 every episode steps back, x stays at its start and B goes on
+  TrainingRun held(echo_staircase_config("4", "100"), options("echo_staircase_held"));
+  held.train();
+  EXPECT_EQ(held.parameters().lesson_names().at("x"), "B");
+  EXPECT_EQ(held.parameters().staircase_values().at("x"), 1.0);
+}
+
+TEST_F(TrainingRunTest, AStaircaseEndTheEnvRejectsIsAnErrorBeforeWriting) {
+  try {
+    TrainingRun run(echo_staircase_config("99", "0.5"), options("echo_bad_staircase"));
+    FAIL() << "a staircase end the env rejects must be an error before training";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("echo.yaml: environment_parameters.x, lesson 'B': "
+                                         "LessonEchoEnv: x must be at most 10, got 99"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "echo_bad_staircase"));
 }
 
 TEST_F(TrainingRunTest, UnknownCurriculumMetricIsAnErrorBeforeWriting) {
