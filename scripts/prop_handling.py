@@ -13,6 +13,10 @@ event of each episode and prints, averaged over the episodes:
   where it ended, for episodes with a fort (every opening closed) and without; and, over the
   frames in which such a prop was held, how often the panel was between the drone and that
   opening (the panel goes first) and how often it moved towards the opening rather than away;
+- the holds (from a grab to the lock or release that lets the prop go, or to the prep phase's
+  end): how many ended in the frame they began (grabbed and locked in one decision, so the
+  prop was never carried), how many lasted LONG_HOLD seconds or more, and how far those took a
+  paired prop towards its opening (median);
 - per paired prop, by its place among the props (with prop_pairing prop k is the k-th hider's
   own), the share of episodes in which it ended the prep phase locked near its opening;
 - what the closed openings bought in the test phase: by how many openings were closed at the end
@@ -26,6 +30,7 @@ from collections import Counter
 
 NEAR_OPENING = 0.8  # m: a lock this close to an open opening's centre counts as "at a doorway"
 STILL = 0.002  # m: a prop that moved less than this in a frame did not move
+LONG_HOLD = 0.5  # s: a hold at least this long carried the prop somewhere
 
 
 def horizontal(a, b):
@@ -76,6 +81,7 @@ def main(path):
     carried = Counter()  # held frames of paired props: "frames", "panel_first", "moved", "towards"
     by_closed = {}  # openings closed at the end of the prep phase -> [(tagged, hidden fraction)]
     locked_at_opening = Counter()  # k -> episodes in which paired prop k ended locked near its opening
+    holds = []  # (frames held, metres gained towards its opening or None for an unpaired prop)
     for episode in episodes:
         # pose row of each dynamic body, and of each prop's
         body_row = {body: row for row, body in enumerate(episode["dynamic_bodies"])}
@@ -89,6 +95,15 @@ def main(path):
         state = {p: "free" for p in rows}
         holder = {}  # prop -> pose row of the drone that holds it
         travelled = Counter()  # prop -> metres
+        hold_start = {}  # prop -> (frame index, pose) of the grab that holds it now
+
+        def end_hold(prop, index, pose):
+            start, start_pose = hold_start.pop(prop)
+            gain = None
+            if prop in paired:
+                gain = horizontal(start_pose, paired[prop]) - horizontal(pose, paired[prop])
+            holds.append((index - start, gain))
+
         for index, frame in enumerate(frames):
             poses = frame["poses"]
             if index > 0:
@@ -108,10 +123,15 @@ def main(path):
                 state[prop] = {"grab": "held", "lock": "locked"}.get(kind, "free")
                 if kind == "grab":
                     holder[prop] = body_row[e["body"]]
+                    hold_start[prop] = (index, poses[rows[prop]])
+                elif prop in hold_start:
+                    end_hold(prop, index, poses[rows[prop]])
                 if kind == "lock":
                     at = poses[rows[prop]]
                     if any(horizontal(at, o["centre"]) < NEAR_OPENING for o in openings):
                         locks_near += 1
+        for prop in list(hold_start):
+            end_hold(prop, len(frames) - 1, frames[-1]["poses"][rows[prop]])
         metrics = episode["metrics"]
         fort = metrics.get("fort_rate", 0) == 1
         closed = int(round(metrics.get("openings_closed", 0)))
@@ -145,6 +165,18 @@ def main(path):
             f"{carried['panel_first'] / carried['frames']:.2f} of the frames; moving towards the "
             f"opening in {carried['towards'] / max(1, carried['moved']):.2f} of those it moved in"
         )
+    if holds:
+        frame_rate = episodes[0].get("frame_rate", 50)
+        at_once = sum(1 for frames_held, _ in holds if frames_held == 0)
+        long = [gain for frames_held, gain in holds if frames_held >= LONG_HOLD * frame_rate]
+        gains = [gain for gain in long if gain is not None]
+        line = (
+            f"  holds: {len(holds) / n:.1f} per episode; let go in the frame they began (grabbed and "
+            f"locked at once) {at_once / len(holds):.2f}, held {LONG_HOLD} s or more {len(long) / len(holds):.2f}"
+        )
+        if gains:
+            line += f", which took their prop {statistics.median(gains):.2f} m towards its opening (median)"
+        print(line)
     if locked_at_opening:
         shares = ", ".join(f"prop {k} in {locked_at_opening[k] / n:.2f}" for k in sorted(locked_at_opening))
         print(f"  locked within {NEAR_OPENING} m of its opening when the prep phase ended: {shares} of the episodes")
