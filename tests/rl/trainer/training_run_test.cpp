@@ -211,6 +211,19 @@ class TrainingRunTest : public ::testing::Test {
     return o;
   }
 
+  // building a run from `config` with `opt` throws std::invalid_argument saying `says`, before
+  // the run's folder is written
+  void expect_rejected_before_writing(const RunConfig& config, const TrainOptions& opt,
+                                      const std::string& says) {
+    try {
+      TrainingRun run(config, opt);
+      ADD_FAILURE() << "accepted; expected an error saying " << says;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(dir_ / opt.run_id)) << opt.run_id << " was written";
+  }
+
   static std::vector<torch::Tensor> parameters(TrainingRun& run) {
     std::vector<torch::Tensor> out;
     for (auto& p : run.trainer(0).network()->parameters()) out.push_back(p.detach().clone());
@@ -575,16 +588,10 @@ TEST_F(TrainingRunTest, ACollapsedLessonFallsBackAndTheLogSaysSo) {
 
 TEST_F(TrainingRunTest, ALessonValueTheEnvRejectsIsAnErrorBeforeWriting) {
   // lesson C, reached only when A and B have ended, sets x = 99, which LessonEchoEnv rejects
-  try {
-    TrainingRun run(echo_curriculum_config("value", "", "0", "99"), options("echo_bad_lesson"));
-    FAIL() << "a lesson value the env rejects must be an error before training";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("echo.yaml: environment_parameters.x, lesson 'C': "
-                                         "LessonEchoEnv: x must be at most 10, got 99"),
-              std::string::npos)
-        << e.what();
-  }
-  EXPECT_FALSE(fs::exists(dir_ / "echo_bad_lesson"));
+  expect_rejected_before_writing(echo_curriculum_config("value", "", "0", "99"),
+                                 options("echo_bad_lesson"),
+                                 "echo.yaml: environment_parameters.x, lesson 'C': "
+                                 "LessonEchoEnv: x must be at most 10, got 99");
 }
 
 // Lesson B of x moves x from 1 toward `end` by a staircase judged on the episodes' `value` (x
@@ -615,31 +622,16 @@ TEST_F(TrainingRunTest, AStaircaseClimbsThroughItsLessonInARun) {
 }
 
 TEST_F(TrainingRunTest, AStaircaseEndTheEnvRejectsIsAnErrorBeforeWriting) {
-  try {
-    TrainingRun run(echo_staircase_config("99", "0.5"), options("echo_bad_staircase"));
-    FAIL() << "a staircase end the env rejects must be an error before training";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("echo.yaml: environment_parameters.x, lesson 'B': "
-                                         "LessonEchoEnv: x must be at most 10, got 99"),
-              std::string::npos)
-        << e.what();
-  }
-  EXPECT_FALSE(fs::exists(dir_ / "echo_bad_staircase"));
+  expect_rejected_before_writing(echo_staircase_config("99", "0.5"), options("echo_bad_staircase"),
+                                 "echo.yaml: environment_parameters.x, lesson 'B': "
+                                 "LessonEchoEnv: x must be at most 10, got 99");
 }
 
 TEST_F(TrainingRunTest, UnknownCurriculumMetricIsAnErrorBeforeWriting) {
-  try {
-    TrainingRun run(echo_curriculum_config("fort_rate"), options("echo_bad"));
-    FAIL() << "a metric the env does not report must be an error";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(
-                  "echo.yaml: environment_parameters.x, lesson 'B': completion_criteria measures "
-                  "the episode metric 'fort_rate', which the environment does not report (it "
-                  "reports: below_half, value)"),
-              std::string::npos)
-        << e.what();
-  }
-  EXPECT_FALSE(fs::exists(dir_ / "echo_bad"));
+  expect_rejected_before_writing(
+      echo_curriculum_config("fort_rate"), options("echo_bad"),
+      "echo.yaml: environment_parameters.x, lesson 'B': completion_criteria measures the episode "
+      "metric 'fort_rate', which the environment does not report (it reports: below_half, value)");
 }
 
 TEST_F(TrainingRunTest, WritesTheRunFolder) {
@@ -1094,13 +1086,7 @@ TEST_F(TrainingRunTest, UnknownBehaviorOrParameterIsAnErrorBeforeWriting) {
   config.environment_parameters["level"].curriculum = {only};
   auto opt = options("bad");
   opt.params["offset"] = 1.f;
-  try {
-    TrainingRun run(config, opt);
-    ADD_FAILURE() << "--param offset was taken";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("--param offset"), std::string::npos) << e.what();
-  }
-  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+  expect_rejected_before_writing(config, opt, "--param offset");
 }
 
 // Red and Blue take turns; Blue's turns play with x = 7, Red's with env_settings' x = 2.
@@ -1258,20 +1244,14 @@ TEST_F(TrainingRunTest, ALessonsStepBudgetLetsAFinishedBehaviorLearnAgain) {
 }
 
 TEST_F(TrainingRunTest, BadTurnParametersAreErrorsBeforeWriting) {
-  auto expect_error = [&](const RunConfig& config, const TrainOptions& opt, const std::string& says) {
-    try {
-      TrainingRun run(config, opt);
-      ADD_FAILURE() << "accepted; expected an error saying " << says;
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
-    }
-    EXPECT_FALSE(fs::exists(dir_ / "bad_turn"));
-  };
-  expect_error(turn_config("y: 1"), options("bad_turn"),
-               "behaviors.Blue.self_play.turn_parameters: environment 'TurnEchoEnv' has no parameter 'y'");
+  expect_rejected_before_writing(
+      turn_config("y: 1"), options("bad_turn"),
+      "behaviors.Blue.self_play.turn_parameters: environment 'TurnEchoEnv' has no parameter 'y'");
   auto opt = options("bad_turn");
   opt.params["x"] = 1.f;
-  expect_error(turn_config("x: 7"), opt, "--param x: turns.yaml sets it in behaviors.Blue.self_play.turn_parameters");
+  expect_rejected_before_writing(
+      turn_config("x: 7"), opt,
+      "--param x: turns.yaml sets it in behaviors.Blue.self_play.turn_parameters");
 }
 
 // a bad number at decision `at` of kind `what` stops training; earlier checkpoints stay loadable
