@@ -555,6 +555,8 @@ void Parser::parse_hyperparameters(const Val& value, Hyperparameters* hyper,
            [&](const Val& v) { hyper->learning_rate_schedule = read_schedule(v); }},
           {"beta", [&](const Val& v) { hyper->beta = read_float(v, kNonNegativeReal); }},
           {"beta_schedule", [&](const Val& v) { hyper->beta_schedule = read_schedule(v); }},
+          {"discrete_beta",
+           [&](const Val& v) { hyper->discrete_beta = read_float(v, kNonNegativeReal); }},
           {"epsilon",
            [&](const Val& v) {
              hyper->epsilon = read_float(v, RealRange{0.0, true, 1.0, true});
@@ -694,6 +696,7 @@ BehaviorConfig Parser::finish_behavior(const BehaviorDraft& draft, const Val& si
                             ")");
   }
   if (!hyper.beta_schedule) hyper.beta_schedule = hyper.learning_rate_schedule;
+  if (!hyper.discrete_beta) hyper.discrete_beta = hyper.beta;
   if (!hyper.epsilon_schedule) hyper.epsilon_schedule = hyper.learning_rate_schedule;
   if (draft.even_checkpoints) {
     config.checkpoint_interval = std::max<int64_t>(1, config.max_steps / config.keep_checkpoints);
@@ -1304,6 +1307,8 @@ void emit_behavior(YAML::Emitter& out, const BehaviorConfig& config) {
   emit_float(out, hyper.beta);
   out << YAML::Key << "beta_schedule" << YAML::Value
       << schedule_name(hyper.beta_schedule.value_or(hyper.learning_rate_schedule));
+  out << YAML::Key << "discrete_beta" << YAML::Value;
+  emit_float(out, hyper.discrete_beta.value_or(hyper.beta));
   out << YAML::Key << "epsilon" << YAML::Value;
   emit_float(out, hyper.epsilon);
   out << YAML::Key << "epsilon_schedule" << YAML::Value

@@ -25,6 +25,8 @@ struct Hyperparameters {
   Schedule learning_rate_schedule = Schedule::kLinear;  // linear: decays to 1e-10 at max_steps
   float beta = 5e-3f;              // entropy bonus strength
   std::optional<Schedule> beta_schedule;     // default: learning_rate_schedule; linear -> 1e-5
+  std::optional<float> discrete_beta;        // extension: the discrete branches' entropy bonus
+                                             // (default: beta); decays as beta does
   float epsilon = 0.2f;            // PPO clip range of ratio and value
   std::optional<Schedule> epsilon_schedule;  // default: learning_rate_schedule; linear -> 0.1
   float lambd = 0.95f;             // GAE lambda

@@ -21,7 +21,7 @@ ActionLogProbs evaluate_actions(const ActionSpec& spec, const torch::Tensor& mea
                                 const torch::Tensor& log_std, const torch::Tensor& logits,
                                 const torch::Tensor& mask, const torch::Tensor& continuous,
                                 const torch::Tensor& discrete) {
-  torch::Tensor log_prob, entropy;
+  torch::Tensor log_prob, entropy, discrete_entropy;
   if (spec.continuous_size > 0) {
     // diagonal Gaussian: sum over dimensions
     const float half_log_2pi = 0.5f * std::log(2.f * float(M_PI));
@@ -40,10 +40,12 @@ ActionLogProbs evaluate_actions(const ActionSpec& spec, const torch::Tensor& mea
       auto branch_entropy = -(p.narrow(1, offset, n) * branch_logp).sum(1);
       log_prob = log_prob.defined() ? log_prob + chosen : chosen;
       entropy = entropy.defined() ? entropy + branch_entropy : branch_entropy;
+      discrete_entropy =
+          discrete_entropy.defined() ? discrete_entropy + branch_entropy : branch_entropy;
       offset += n;
     }
   }
-  return {log_prob, entropy};
+  return {log_prob, entropy, discrete_entropy};
 }
 
 }  // namespace rlt

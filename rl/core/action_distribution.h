@@ -16,6 +16,7 @@ namespace rlt {
 struct ActionLogProbs {
   torch::Tensor log_prob;  // [B] joint log-probability of the action
   torch::Tensor entropy;   // [B] entropy of the whole action distribution
+  torch::Tensor discrete_entropy;  // [B] the discrete branches' part of it (undefined: no branches)
 };
 
 // Evaluates actions under the distribution.

@@ -206,8 +206,8 @@ UpdateStats PocaTrainer::update() {
       auto baselines = critic_->baseline(mb_obs, mb_others, slice(e_actions), mb_present);
       auto returns = mb_old.select(1, 4);
       PpoLoss l = ppo_loss(lp.log_prob, mb_old.select(1, 0), mb_old.select(1, 1), values,
-                           mb_old.select(1, 2), returns, lp.entropy, stats.epsilon, stats.beta,
-                           0.5f);
+                           mb_old.select(1, 2), returns, lp.entropy, lp.discrete_entropy,
+                           stats.epsilon, stats.beta, stats.discrete_beta, 0.5f);
       auto baseline_loss = clipped_value_loss(baselines, mb_old.select(1, 3), returns, stats.epsilon);
       auto total = l.total + 0.25f * baseline_loss;  // policy + 0.5 (value + 0.5 baseline) - beta H
       const float total_value = total.item<float>();

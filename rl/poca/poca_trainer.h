@@ -9,8 +9,9 @@
 // - A member's reward is its own reward plus its groupmates' rewards plus the group reward, times
 //   the signal strength (ML-Agents' add_groupmate_rewards).
 // - Returns are lambda-returns from V; advantage = return - baseline; advantages are normalized
-//   over the update buffer; loss = policy + 0.5 (value + 0.5 baseline) - beta entropy, value and
-//   baseline losses clipped like PPO's value loss.
+//   over the update buffer; loss = policy + 0.5 (value + 0.5 baseline) - beta entropy (the
+//   discrete branches' part weighed by discrete_beta when set, as PPO's), value and baseline
+//   losses clipped like PPO's value loss.
 // - An agent that leaves before its group bootstraps from the group's value V of the observations
 //   at the step it left; only when the whole group is done and terminated is the bootstrap 0.
 // Deliberate differences: as in PPO, the joint action's ratio is clipped (see

@@ -78,7 +78,7 @@ void MlpPpoGradient::body_backward(const std::vector<DenseLayer>& body, const Ro
 }
 
 LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float beta,
-                                   float value_loss_coef) {
+                                   float discrete_beta, float value_loss_coef) {
   const auto& shape = net_.shape();
   const auto& spec = shape.action;
   const int64_t B = mb.rows;
@@ -93,6 +93,7 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   const RowMatrix& critic_h = shape.shared_critic ? actor_h : critic_y_.back();
 
   Eigen::VectorXd log_prob = Eigen::VectorXd::Zero(B), entropy = Eigen::VectorXd::Zero(B);
+  Eigen::VectorXd discrete_entropy = Eigen::VectorXd::Zero(B);  // the branches' share of entropy
   // forward: continuous part
   RowMatrix zc;  // [B, C] standardized actions
   Eigen::RowVectorXf log_std, std_dev;
@@ -141,6 +142,7 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
         }
         branch_entropy(i, k) = float(h);
         entropy[i] += h;
+        discrete_entropy[i] += h;
         log_prob[i] += log_probs(i, offset + mb.discrete[i * K + k]);
         offset += n;
       }
@@ -179,6 +181,8 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   }
   out.entropy = entropy.mean();
   out.total = out.policy + value_loss_coef * out.value - beta * out.entropy;
+  // the branches' bonus at discrete_beta instead of beta (nothing changes when the two are equal)
+  if (discrete_beta != beta) out.total -= (discrete_beta - beta) * discrete_entropy.mean();
 
   // backward: heads
   RowMatrix d_actor_h = RowMatrix::Zero(B, actor_h.cols());
@@ -202,7 +206,8 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
         for (int o = 0; o < n; ++o) {
           const float p = probs(i, offset + o);
           d_logits(i, offset + o) = g[i] * ((o == chosen ? 1.f : 0.f) - p) +
-                                    beta / B * p * (log_probs(i, offset + o) + branch_entropy(i, k));
+                                    discrete_beta / B * p *
+                                        (log_probs(i, offset + o) + branch_entropy(i, k));
         }
         offset += n;
       }

@@ -10,7 +10,8 @@
 //
 // Backward pass, per row i with g_i = d total / d log_prob_i:
 //   continuous:  d/d mean_ij = g_i z_ij / s_j,  d/d log_std_j = sum_i g_i (z_ij^2 - 1) - beta
-//   discrete:    d/d logit_ik = g_i (1[k = a_i] - p_ik) + (beta / B) p_ik (log p_ik + H_i)
+//   discrete:    d/d logit_ik = g_i (1[k = a_i] - p_ik) + (beta_d / B) p_ik (log p_ik + H_i)
+//                (beta_d = discrete_beta, the branches' own entropy bonus; beta by default)
 //   value:       d/d v_i from the larger of the two squared errors (half each on a tie)
 // then through the heads and bodies (tanh' = 1 - y^2, relu' = 1[z > 0],
 // swish' = s(z) (1 + z (1 - s(z)))). Ties of the min/max follow LibTorch: half the gradient each.
@@ -44,7 +45,9 @@ class MlpPpoGradient {
   explicit MlpPpoGradient(PolicyNetworkImpl& net) : net_(net) {}
 
   // Computes the loss and writes its gradient into every parameter's .grad() (overwriting it).
-  LossValues compute(const MinibatchView& mb, float epsilon, float beta, float value_loss_coef);
+  // The entropy bonus is beta for the Gaussian part and discrete_beta for the discrete branches.
+  LossValues compute(const MinibatchView& mb, float epsilon, float beta, float discrete_beta,
+                     float value_loss_coef);
 
  private:
   // forward through a body, keeping pre-activations and outputs: z[l], y[l] are [B, H]

@@ -11,7 +11,8 @@ torch::Tensor clipped_value_loss(const torch::Tensor& values, const torch::Tenso
 PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_prob,
                  const torch::Tensor& advantages, const torch::Tensor& values,
                  const torch::Tensor& old_values, const torch::Tensor& returns,
-                 const torch::Tensor& entropy, float epsilon, float beta, float value_loss_coef) {
+                 const torch::Tensor& entropy, const torch::Tensor& discrete_entropy,
+                 float epsilon, float beta, float discrete_beta, float value_loss_coef) {
   PpoLoss out;
   // clipped surrogate
   auto log_ratio = log_prob - old_log_prob;  // [B]
@@ -21,6 +22,9 @@ PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_pro
   out.value = clipped_value_loss(values, old_values, returns, epsilon);
   out.entropy = entropy.mean();
   out.total = out.policy + value_loss_coef * out.value - beta * out.entropy;
+  // the branches' bonus at discrete_beta instead of beta (nothing changes when the two are equal)
+  if (discrete_entropy.defined() && discrete_beta != beta)
+    out.total = out.total - (discrete_beta - beta) * discrete_entropy.mean();
   {
     torch::NoGradGuard no_grad;
     out.approx_kl = (ratio - 1 - log_ratio).mean();

@@ -83,7 +83,8 @@ UpdateStats PpoTrainer::update() {
       if (s.mask_size()) mb.mask = e_mask.data_ptr<float>() + b * bs * s.mask_size();
       mb.old = e_old.data_ptr<float>() + b * bs * 4;
 
-      const LossValues l = gradient_->compute(mb, stats.epsilon, stats.beta, hp.value_loss_coef);
+      const LossValues l = gradient_->compute(mb, stats.epsilon, stats.beta, stats.discrete_beta,
+                                                  hp.value_loss_coef);
       if (!std::isfinite(l.total)) {
         std::ostringstream os;
         os << "behavior " << spec_.name << ", update " << updates_ + 1 << ", step " << step_

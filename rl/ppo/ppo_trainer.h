@@ -3,7 +3,8 @@
 // References: Schulman et al. 2017, "Proximal Policy Optimization Algorithms"; ML-Agents
 // `mlagents/trainers/ppo/trainer.py` and `ppo/optimizer_torch.py` (trajectories cut at
 // time_horizon, GAE per trajectory, advantages normalized over the update buffer, clipped value
-// loss, loss = policy + 0.5 value - beta entropy (value weight configurable: value_loss_coef),
+// loss, loss = policy + 0.5 value - beta entropy (value weight configurable: value_loss_coef; the
+// discrete branches' entropy weighed by discrete_beta instead when it is set, see ppo_loss.h),
 // linear decay of learning rate to 1e-10, epsilon to 0.1 and beta to 1e-5 over max_steps, buffer
 // cleared after each update); CleanRL ppo.py for the textbook details.
 // Deliberate differences from ML-Agents:

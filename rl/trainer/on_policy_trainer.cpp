@@ -216,6 +216,8 @@ void OnPolicyTrainer::fill_schedules(UpdateStats& stats) const {
   stats.learning_rate = decayed(hp.learning_rate, 1e-10f, hp.learning_rate_schedule);
   stats.epsilon = decayed(hp.epsilon, 0.1f, hp.epsilon_schedule.value_or(hp.learning_rate_schedule));
   stats.beta = decayed(hp.beta, 1e-5f, hp.beta_schedule.value_or(hp.learning_rate_schedule));
+  stats.discrete_beta = decayed(hp.discrete_beta.value_or(hp.beta), 1e-5f,
+                                hp.beta_schedule.value_or(hp.learning_rate_schedule));
 }
 
 double OnPolicyTrainer::actor_macs() const {

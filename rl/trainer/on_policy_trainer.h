@@ -28,6 +28,7 @@ namespace rlt {
 struct UpdateStats {
   float policy_loss = 0, value_loss = 0, baseline_loss = 0, entropy = 0;
   float learning_rate = 0, epsilon = 0, beta = 0;
+  float discrete_beta = 0;  // the discrete branches' entropy bonus (beta unless configured)
   // how far the update moved the policy, averaged over its minibatches (each measured before its
   // gradient step): the approximate KL divergence from the policy that collected the buffer and
   // the share of rows whose probability ratio left [1 - epsilon, 1 + epsilon]

@@ -64,6 +64,7 @@ void expect_same(const BehaviorConfig& a, const BehaviorConfig& b) {
   EXPECT_EQ(ha.learning_rate_schedule, hb.learning_rate_schedule);
   EXPECT_EQ(ha.beta, hb.beta);
   EXPECT_EQ(ha.beta_schedule, hb.beta_schedule);
+  EXPECT_EQ(ha.discrete_beta, hb.discrete_beta);
   EXPECT_EQ(ha.epsilon, hb.epsilon);
   EXPECT_EQ(ha.epsilon_schedule, hb.epsilon_schedule);
   EXPECT_EQ(ha.lambd, hb.lambd);
@@ -185,6 +186,7 @@ TEST(ConfigParserTest, EmptyBehaviorGetsMlAgentsDefaults) {
   BehaviorConfig expected;  // the struct defaults are ML-Agents' defaults
   expected.hyperparameters.beta_schedule = Schedule::kLinear;     // follows learning_rate_schedule
   expected.hyperparameters.epsilon_schedule = Schedule::kLinear;  // likewise
+  expected.hyperparameters.discrete_beta = expected.hyperparameters.beta;  // follows beta
   expect_same(config.behaviors.at("CartPole"), expected);
   const BehaviorConfig& cartpole = config.behaviors.at("CartPole");
   EXPECT_EQ(cartpole.trainer_type, "ppo");
@@ -368,6 +370,10 @@ TEST(ConfigParserTest, ReadsExtensionsAndOptionalStrings) {
   EXPECT_EQ(cartpole.init_path, "results/old/CartPole.pt");
   EXPECT_TRUE(cartpole.threaded);
   EXPECT_EQ(config.checkpoint_settings.initialize_from, "old");
+  // the branches' entropy bonus is beta's unless given
+  EXPECT_EQ(cartpole.hyperparameters.discrete_beta, cartpole.hyperparameters.beta);
+  const RunConfig own = parse(cartpole_with("    hyperparameters:\n      discrete_beta: 0.05\n"));
+  EXPECT_EQ(own.behaviors.at("CartPole").hyperparameters.discrete_beta, 0.05f);
 }
 
 TEST(ConfigParserTest, EvenCheckpointsSpreadsCheckpointsOverMaxSteps) {
@@ -1212,6 +1218,7 @@ TEST(ConfigParserErrorTest, OutOfRangeValues) {
       {h + "lambd: 1.5\n", hp + "lambd", "expected a number in [0, 1], got '1.5'"},
       {h + "num_epoch: 0\n", hp + "num_epoch", "expected a positive integer, got '0'"},
       {h + "max_grad_norm: -1\n", hp + "max_grad_norm", "expected a number >= 0, got '-1'"},
+      {h + "discrete_beta: -0.5\n", hp + "discrete_beta", "expected a number >= 0, got '-0.5'"},
       {h + "learning_rate: 1e50\n", hp + "learning_rate", "out of the range of a 32-bit float"},
       {n + "hidden_units: 0\n", np + "hidden_units", "expected a positive integer, got '0'"},
       {n + "num_layers: 0\n", np + "num_layers", "expected a positive integer, got '0'"},
@@ -1451,6 +1458,7 @@ TEST(ConfigWriterTest, RoundTripOfAnMlAgentsConfig) {
                           "learning_rate_schedule:",
                           "beta:",
                           "beta_schedule:",
+                          "discrete_beta:",
                           "epsilon:",
                           "epsilon_schedule:",
                           "lambd:",

@@ -51,13 +51,14 @@ Batch random_batch(int64_t rows, const torch::Tensor& mask, uint64_t seed) {
 }
 
 struct Naive {
-  std::vector<double> log_prob, entropy;  // [B]
+  std::vector<double> log_prob, entropy, discrete_entropy;  // [B]
 };
 
 // double-precision reference, one element at a time
 Naive naive(const Batch& b) {
   const int64_t rows = b.mean.size(0);
-  Naive out{std::vector<double>(rows, 0.0), std::vector<double>(rows, 0.0)};
+  Naive out{std::vector<double>(rows, 0.0), std::vector<double>(rows, 0.0),
+            std::vector<double>(rows, 0.0)};
   auto mean = b.mean.accessor<float, 2>();
   auto log_std = b.log_std.accessor<float, 1>();
   auto logits = b.logits.accessor<float, 2>();
@@ -81,6 +82,7 @@ Naive naive(const Batch& b) {
         if (mask[r][offsets[k] + o] < 0.5f) continue;
         const double p = std::exp(double(logits[r][offsets[k] + o])) / z;
         out.entropy[r] -= p * std::log(p);
+        out.discrete_entropy[r] -= p * std::log(p);
         if (o == choice[r][k]) out.log_prob[r] += std::log(p);
       }
     }
@@ -94,11 +96,15 @@ void expect_matches_naive(const Batch& b) {
   Naive ref = naive(b);
   ASSERT_EQ(got.log_prob.sizes(), torch::IntArrayRef({b.mean.size(0)}));
   ASSERT_EQ(got.entropy.sizes(), torch::IntArrayRef({b.mean.size(0)}));
+  ASSERT_EQ(got.discrete_entropy.sizes(), torch::IntArrayRef({b.mean.size(0)}));
   auto lp = got.log_prob.accessor<float, 1>();
   auto ent = got.entropy.accessor<float, 1>();
+  auto discrete_ent = got.discrete_entropy.accessor<float, 1>();
   for (int64_t r = 0; r < b.mean.size(0); ++r) {
     EXPECT_NEAR(lp[r], ref.log_prob[r], 1e-5 * (1 + std::abs(ref.log_prob[r]))) << "row " << r;
     EXPECT_NEAR(ent[r], ref.entropy[r], 1e-5 * (1 + std::abs(ref.entropy[r]))) << "row " << r;
+    EXPECT_NEAR(discrete_ent[r], ref.discrete_entropy[r], 1e-5 * (1 + ref.discrete_entropy[r]))
+        << "row " << r;
   }
 }
 
@@ -210,6 +216,9 @@ TEST(ActionDistributionTest, ContinuousOnlyAndDiscreteOnly) {
     EXPECT_NEAR(lp[r].item<float>(), ref.log_prob[r], 1e-4) << "row " << r;
     EXPECT_NEAR(ent[r].item<float>(), ref.entropy[r], 1e-4) << "row " << r;
   }
+  // without branches there is no discrete part; without a Gaussian it is all of the entropy
+  EXPECT_FALSE(c.discrete_entropy.defined());
+  EXPECT_TRUE(torch::equal(d.discrete_entropy, d.entropy));
 }
 
 }  // namespace

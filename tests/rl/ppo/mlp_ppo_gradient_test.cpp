@@ -1,6 +1,7 @@
 // The hand-written PPO gradient equals autograd through PolicyNetwork, evaluate_actions() and
 // ppo_loss() (the reference), for every kind of action space, activation and critic layout, with
-// the ratio and value clips active on both sides.
+// the ratio and value clips active on both sides, with one entropy bonus or the discrete branches'
+// own.
 #include "rl/ppo/mlp_ppo_gradient.h"
 
 #include <gtest/gtest.h>
@@ -17,6 +18,7 @@ struct GradientCase {
   Activation activation;
   bool shared_critic;
   bool masked;
+  float discrete_beta = 0.01f;  // the branches' entropy bonus (beta is 0.01)
 };
 
 class MlpPpoGradientTest : public ::testing::TestWithParam<GradientCase> {};
@@ -91,7 +93,7 @@ TEST_P(MlpPpoGradientTest, EqualsAutograd) {
   auto lp = evaluate_actions(shape.action, out.mean, net->log_std, out.logits, mask, cont, disc);
   auto v = net->value(obs, out.hidden);
   PpoLoss ref = ppo_loss(lp.log_prob, old_log_prob, advantages, v, old_value, returns, lp.entropy,
-                         epsilon, beta, value_coef);
+                         lp.discrete_entropy, epsilon, beta, c.discrete_beta, value_coef);
   ref.total.backward();
   std::vector<torch::Tensor> expected;
   for (auto& p : net->parameters()) expected.push_back(p.grad().clone());
@@ -109,7 +111,7 @@ TEST_P(MlpPpoGradientTest, EqualsAutograd) {
   }
   mb.old = old.data_ptr<float>();
   MlpPpoGradient gradient(*net);
-  LossValues got = gradient.compute(mb, epsilon, beta, value_coef);
+  LossValues got = gradient.compute(mb, epsilon, beta, c.discrete_beta, value_coef);
 
   EXPECT_NEAR(got.policy, ref.policy.item<float>(), 1e-5);
   EXPECT_NEAR(got.value, ref.value.item<float>(), 1e-4 * std::max(1.f, ref.value.item<float>()));
@@ -135,7 +137,10 @@ INSTANTIATE_TEST_SUITE_P(
                       GradientCase{3, {}, Activation::kSwish, true, false},
                       GradientCase{0, {2}, Activation::kTanh, false, false},
                       GradientCase{0, {4, 3}, Activation::kRelu, true, true},
-                      GradientCase{0, {4, 3}, Activation::kSwish, false, true}));
+                      GradientCase{0, {4, 3}, Activation::kSwish, false, true},
+                      // the branches' own entropy bonus, larger and switched off
+                      GradientCase{2, {3, 2}, Activation::kTanh, false, true, 0.2f},
+                      GradientCase{0, {4, 3}, Activation::kRelu, true, true, 0.f}));
 
 }  // namespace
 }  // namespace rlt

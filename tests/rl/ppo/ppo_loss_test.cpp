@@ -1,12 +1,13 @@
 // Equivalence of ppo_loss with a naive scalar loop in double (both sides of the ratio clip,
 // positive and negative advantages, value clipping, the approximate KL and the clip fraction),
-// and zero policy gradient in the clipped region.
+// the discrete branches' own entropy bonus, and zero policy gradient in the clipped region.
 #include "rl/ppo/ppo_loss.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 namespace rlt {
@@ -14,6 +15,7 @@ namespace {
 
 struct Minibatch {
   std::vector<float> log_prob, old_log_prob, advantages, values, old_values, returns, entropy;
+  std::vector<float> discrete_entropy;  // the branches' part of entropy (empty: no branches)
 };
 
 torch::Tensor tensor(const std::vector<float>& v) { return torch::tensor(v); }
@@ -22,7 +24,11 @@ struct NaiveLoss {
   double policy = 0, value = 0, entropy = 0, total = 0, approx_kl = 0, clip_fraction = 0;
 };
 
-NaiveLoss naive_loss(const Minibatch& m, double eps, double beta) {
+// discrete_beta weighs the branches' part of the entropy (beta when not given)
+NaiveLoss naive_loss(const Minibatch& m, double eps, double beta,
+                     std::optional<double> discrete_beta = std::nullopt) {
+  double discrete_entropy = 0;
+  for (float h : m.discrete_entropy) discrete_entropy += h;
   NaiveLoss out;
   const size_t n = m.log_prob.size();
   for (size_t i = 0; i < n; ++i) {
@@ -42,23 +48,28 @@ NaiveLoss naive_loss(const Minibatch& m, double eps, double beta) {
   out.policy /= n;
   out.value /= n;
   out.entropy /= n;
-  out.total = out.policy + 0.5 * out.value - beta * out.entropy;
+  discrete_entropy /= n;
+  out.total = out.policy + 0.5 * out.value - beta * (out.entropy - discrete_entropy) -
+              discrete_beta.value_or(beta) * discrete_entropy;
   return out;
 }
 
 PpoLoss run(const Minibatch& m, float eps, float beta, torch::Tensor* log_prob = nullptr,
-            torch::Tensor* values = nullptr) {
+            torch::Tensor* values = nullptr, std::optional<float> discrete_beta = std::nullopt) {
   auto lp = tensor(m.log_prob).requires_grad_(true);
   auto v = tensor(m.values).requires_grad_(true);
   if (log_prob) *log_prob = lp;
   if (values) *values = v;
   return ppo_loss(lp, tensor(m.old_log_prob), tensor(m.advantages), v, tensor(m.old_values),
-                  tensor(m.returns), tensor(m.entropy), eps, beta);
+                  tensor(m.returns), tensor(m.entropy),
+                  m.discrete_entropy.empty() ? torch::Tensor() : tensor(m.discrete_entropy), eps,
+                  beta, discrete_beta.value_or(beta));
 }
 
-void expect_matches_naive(const Minibatch& m, float eps, float beta) {
-  PpoLoss got = run(m, eps, beta);
-  NaiveLoss ref = naive_loss(m, eps, beta);
+void expect_matches_naive(const Minibatch& m, float eps, float beta,
+                          std::optional<float> discrete_beta = std::nullopt) {
+  PpoLoss got = run(m, eps, beta, nullptr, nullptr, discrete_beta);
+  NaiveLoss ref = naive_loss(m, eps, beta, discrete_beta);
   EXPECT_NEAR(got.policy.item<float>(), ref.policy, 1e-5 * (1 + std::abs(ref.policy)));
   EXPECT_NEAR(got.value.item<float>(), ref.value, 1e-5 * (1 + std::abs(ref.value)));
   EXPECT_NEAR(got.entropy.item<float>(), ref.entropy, 1e-5 * (1 + std::abs(ref.entropy)));
@@ -122,6 +133,18 @@ TEST(PpoLossTest, RandomMinibatchesMatchNaive) {
     m.entropy = vec(1.f);
     expect_matches_naive(m, 0.2f, 0.005f);
   }
+}
+
+TEST(PpoLossTest, DiscreteBetaWeighsTheBranchesEntropy) {
+  Minibatch m = case_batch();
+  m.discrete_entropy = {0.6f, 0.1f, 0.2f, 0.7f, 0.0f, 0.4f, 0.3f, 0.5f};  // at most entropy
+  expect_matches_naive(m, 0.2f, 0.01f, 0.05f);
+  expect_matches_naive(m, 0.2f, 0.01f, 0.f);
+  expect_matches_naive(m, 0.2f, 0.01f);  // discrete_beta = beta: one bonus over all of it
+  // the totals differ by exactly the extra bonus on the branches: (0.05 - 0.01) mean(H_discrete)
+  const float same = run(m, 0.2f, 0.01f).total.item<float>();
+  const float more = run(m, 0.2f, 0.01f, nullptr, nullptr, 0.05f).total.item<float>();
+  EXPECT_NEAR(same - more, 0.04 * 2.8 / 8, 1e-6);
 }
 
 TEST(PpoLossTest, ClippedRegionHasZeroPolicyGradient) {
