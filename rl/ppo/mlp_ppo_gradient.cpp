@@ -93,7 +93,6 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   const RowMatrix& critic_h = shape.shared_critic ? actor_h : critic_y_.back();
 
   Eigen::VectorXd log_prob = Eigen::VectorXd::Zero(B), entropy = Eigen::VectorXd::Zero(B);
-  Eigen::VectorXd discrete_entropy = Eigen::VectorXd::Zero(B);  // the branches' share of entropy
   // forward: continuous part
   RowMatrix zc;  // [B, C] standardized actions
   Eigen::RowVectorXf log_std, std_dev;
@@ -142,7 +141,6 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
         }
         branch_entropy(i, k) = float(h);
         entropy[i] += h;
-        discrete_entropy[i] += h;
         log_prob[i] += log_probs(i, offset + mb.discrete[i * K + k]);
         offset += n;
       }
@@ -182,7 +180,8 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   out.entropy = entropy.mean();
   out.total = out.policy + value_loss_coef * out.value - beta * out.entropy;
   // the branches' bonus at discrete_beta instead of beta (nothing changes when the two are equal)
-  if (discrete_beta != beta) out.total -= (discrete_beta - beta) * discrete_entropy.mean();
+  if (discrete_beta != beta && K > 0)
+    out.total -= (discrete_beta - beta) * branch_entropy.cast<double>().sum() / double(B);
 
   // backward: heads
   RowMatrix d_actor_h = RowMatrix::Zero(B, actor_h.cols());
