@@ -1154,6 +1154,23 @@ CompletionCriteria Parser::parse_completion_criteria(const Val& value,
              criteria.fallback_length = read_int32(v, IntRange{1, kIntMax});
              fallback_length = v;
            }},
+          {"after_emerged",
+           [&](const Val& v) {
+             // which names the env declares is checked when training starts
+             if (!v.node.IsSequence())
+               fail_expected(v, "a list of strategy names (e.g. [running_and_chasing])");
+             criteria.after_emerged.clear();
+             for (size_t i = 0; i < v.node.size(); ++i) {
+               const Val item{v.node[i], v.path + "[" + std::to_string(i) + "]",
+                              line_of(v.node[i]) > 0 ? line_of(v.node[i]) : v.line};
+               const std::string name = read_string(item, false);
+               if (name.empty()) fail(item, "must not be empty");
+               if (std::find(criteria.after_emerged.begin(), criteria.after_emerged.end(),
+                             name) != criteria.after_emerged.end())
+                 fail(item, "names the strategy '" + name + "' twice");
+               criteria.after_emerged.push_back(name);
+             }
+           }},
       });
   if (criteria.measure == CompletionMeasure::kMetric) {
     if (!metric) {
@@ -1495,6 +1512,11 @@ void emit_environment_parameters(
               << format_float(*criteria.fallback_threshold, false);
           if (criteria.fallback_length > 0)
             out << YAML::Key << "fallback_length" << YAML::Value << criteria.fallback_length;
+        }
+        if (!criteria.after_emerged.empty()) {
+          out << YAML::Key << "after_emerged" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+          for (const std::string& name : criteria.after_emerged) emit_string(out, name);
+          out << YAML::EndSeq;
         }
         out << YAML::EndMap;
       }

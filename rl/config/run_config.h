@@ -197,12 +197,17 @@ struct CompletionCriteria {
   // have to be met again. Unset: lessons only advance (ML-Agents). Ignored on a first lesson.
   std::optional<double> fallback_threshold;
   int fallback_length = 0;  // episodes; 0: min_lesson_length (at least 1)
+  // Our extension: the env's strategies (EnvSpec::strategies, e.g. HideAndSeek's
+  // running_and_chasing) that must have emerged before the lesson may end; until then a lesson
+  // whose measure is met goes on. Empty: none.
+  std::vector<std::string> after_emerged;
 
   bool operator==(const CompletionCriteria& o) const {
     return behavior == o.behavior && measure == o.measure && metric == o.metric &&
            min_lesson_length == o.min_lesson_length && signal_smoothing == o.signal_smoothing &&
            threshold == o.threshold && require_reset == o.require_reset &&
-           fallback_threshold == o.fallback_threshold && fallback_length == o.fallback_length;
+           fallback_threshold == o.fallback_threshold && fallback_length == o.fallback_length &&
+           after_emerged == o.after_emerged;
   }
   // the episodes a fallback judges: fallback_length, or min_lesson_length when it is 0
   int fallback_episodes() const {

@@ -129,6 +129,7 @@ void EnvironmentParameterManager::enter_lesson(const std::string& name, Paramete
                                                int lesson) const {
   state.lesson = lesson;
   state.furthest = std::max(state.furthest, lesson);
+  state.told_waiting = false;
   const Lesson& entered = settings_.at(name).curriculum[lesson];
   state.staircase = entered.staircase ? staircase_start(entered, name) : 0.0;
 }
@@ -309,6 +310,26 @@ void EnvironmentParameterManager::check_metric_names(const std::vector<std::stri
   }
 }
 
+void EnvironmentParameterManager::check_strategy_names(
+    const std::vector<std::string>& names) const {
+  for (const auto& [parameter, settings] : settings_) {
+    if (!settings.is_curriculum()) continue;
+    for (const Lesson& lesson : settings.curriculum) {
+      if (!lesson.completion_criteria) continue;
+      for (const std::string& strategy : lesson.completion_criteria->after_emerged) {
+        if (std::find(names.begin(), names.end(), strategy) != names.end()) continue;
+        std::string known;
+        for (const std::string& name : names) known += (known.empty() ? "" : ", ") + name;
+        throw std::invalid_argument(
+            "environment_parameters." + parameter + ", lesson '" + lesson.name +
+            "': completion_criteria.after_emerged names the strategy '" + strategy +
+            "', which the environment does not declare (it declares: " +
+            (known.empty() ? "none" : known) + ")");
+      }
+    }
+  }
+}
+
 std::vector<double> EnvironmentParameterManager::reward_buffer(const std::string& behavior) const {
   return as_vector(rewards_, behavior);
 }
@@ -379,7 +400,7 @@ bool EnvironmentParameterManager::completes(const CompletionCriteria& criteria,
 }
 
 LessonUpdate EnvironmentParameterManager::update(
-    const std::map<std::string, BehaviorProgress>& progress) {
+    const std::map<std::string, BehaviorProgress>& progress, const std::set<std::string>& emerged) {
   LessonUpdate result;
   for (auto& [name, state] : state_) {
     const std::vector<Lesson>& lessons = settings_.at(name).curriculum;
@@ -392,10 +413,22 @@ LessonUpdate EnvironmentParameterManager::update(
     const bool last = state.lesson + 1 >= int(lessons.size());      // the last lesson never ends
     if (!last && completes(criteria, lesson.staircase, state,
                            measured_on_steps ? &behavior->second : nullptr)) {
-      enter_lesson(name, state, state.lesson + 1);
-      result.changed = true;
-      if (criteria.require_reset) result.require_reset = true;
-      continue;
+      const auto missing =
+          std::find_if(criteria.after_emerged.begin(), criteria.after_emerged.end(),
+                       [&](const std::string& strategy) { return !emerged.count(strategy); });
+      if (missing == criteria.after_emerged.end()) {
+        enter_lesson(name, state, state.lesson + 1);
+        result.changed = true;
+        if (criteria.require_reset) result.require_reset = true;
+        continue;
+      }
+      if (!state.told_waiting) {
+        state.told_waiting = true;
+        result.waits.push_back("Curriculum " + name + ": lesson " +
+                               std::to_string(state.lesson) + " (" + lesson.name +
+                               ") met its threshold and goes on until the strategy " + *missing +
+                               " has emerged (after_emerged)");
+      }
     }
     const std::string sentence = fall_back_if_collapsed(name, state);
     if (sentence.empty()) continue;

@@ -32,6 +32,11 @@
 //   completion is judged as without it) is full and its mean is at or below fallback_threshold,
 //   the parameter goes back one lesson; the smoothed value stays. A lesson that completes does not
 //   fall back in the same update().
+// - Our extension, a criterion's `after_emerged`: a lesson whose measure is met ends only once
+//   every strategy it names has emerged (update()'s `emerged`, from the run's StrategyTracker);
+//   until then it goes on, and update() says once per lesson entered that it waits. The measure is
+//   judged (and smoothed) as without it, so once the strategies have emerged the lesson ends
+//   exactly where it would have.
 // - Our extension, a lesson's `behavior_max_steps`: max_steps() gives a behavior's step budget
 //   as the largest of its own and the budgets of every lesson reached so far (the furthest
 //   lesson reached counts, so a budget holds from its lesson on even after a fallback).
@@ -55,6 +60,7 @@
 #include <map>
 #include <optional>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -75,6 +81,9 @@ struct LessonUpdate {
   bool require_reset = false;  // ... and the completed lesson asked to reset the environments now
   // one sentence per parameter that fell back, naming it, the lessons and the measure
   std::vector<std::string> fallbacks;
+  // one sentence per lesson whose measure was met while a strategy it waits for (after_emerged)
+  // had not emerged: said once per lesson entered
+  std::vector<std::string> waits;
 };
 
 class EnvironmentParameterManager {
@@ -125,12 +134,17 @@ class EnvironmentParameterManager {
   // Throws std::invalid_argument naming the parameter and lesson when a criterion measures an
   // episode metric that is not in `names` (the env's; see VectorEnv::episode_metric_names).
   void check_metric_names(const std::vector<std::string>& names) const;
+  // Throws std::invalid_argument naming the parameter and lesson when a criterion's after_emerged
+  // names a strategy that is not in `names` (the env's EnvSpec::strategies).
+  void check_strategy_names(const std::vector<std::string>& names) const;
   // The smoothed reward or metric measure of a curriculum parameter (0 before its first one).
   double smoothed_value(const std::string& parameter) const;
 
   // Advances the lessons whose completion criteria are met (see the top of the file). A behavior
-  // missing from `progress` has no trainer yet: the lessons that measure it go on.
-  LessonUpdate update(const std::map<std::string, BehaviorProgress>& progress);
+  // missing from `progress` has no trainer yet: the lessons that measure it go on. `emerged`: the
+  // strategies that have emerged so far (for after_emerged).
+  LessonUpdate update(const std::map<std::string, BehaviorProgress>& progress,
+                      const std::set<std::string>& emerged = {});
   // Moves to the lessons another manager decided (data-parallel training: rank 0 decides, the
   // others follow): what update() returns when it moved them, buffers cleared alike. Lessons that
   // `lessons` does not name stay. `staircase_values` then sets the staircases of the parameters
@@ -161,6 +175,7 @@ class EnvironmentParameterManager {
     int furthest = 0;  // the furthest lesson reached
     double smoothed = 0.0;
     double staircase = 0.0;  // the staircase's value, when the lesson has one
+    bool told_waiting = false;  // update() said the lesson waits for a strategy (after_emerged)
   };
   // Moves `state` to `lesson` (furthest included) and starts that lesson's staircase.
   void enter_lesson(const std::string& name, ParameterState& state, int lesson) const;

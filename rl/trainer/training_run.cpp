@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -196,6 +197,9 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   episode_turn_.assign(env_->num_envs(), 0);
   try {
     parameters_.check_metric_names(env_->episode_metric_names());
+    std::vector<std::string> strategy_names;
+    for (const StrategySpec& s : env_->spec().strategies) strategy_names.push_back(s.name);
+    parameters_.check_strategy_names(strategy_names);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(config_.source_file + ": " + e.what());
   }
@@ -638,9 +642,13 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
   std::map<std::string, BehaviorProgress> progress;
   for (auto& t : trainers_) progress[t->behavior()] = {t->step(), t->config().max_steps};
   // data-parallel: rank 0 decides; the others moved to its lessons in sync_ranks
-  const LessonUpdate u = rank() == 0 ? parameters_.update(progress) : pending_follow_;
+  std::set<std::string> emerged;
+  for (const Emergence& e : strategies_.emergences())
+    if (e.step >= 0) emerged.insert(e.strategy);
+  const LessonUpdate u = rank() == 0 ? parameters_.update(progress, emerged) : pending_follow_;
   pending_follow_ = LessonUpdate{};
   for (const std::string& sentence : u.fallbacks) *log_ << sentence << "\n";
+  for (const std::string& sentence : u.waits) *log_ << sentence << "\n";
   if (u.changed) {
     ++lesson_epoch_;
     apply_step_budgets();

@@ -692,6 +692,15 @@ TEST(ConfigParserErrorTest, CompletionCriteriaErrors) {
   expect_error(with_criteria("          behavior: CartPole\n          threshold: 0.5\n"
                              "          fallback_threshold: 0.1\n          fallback_length: 0\n"),
                path + ".fallback_length", 14, "expected a positive integer");
+  // after_emerged (our extension): a list of strategy names, none empty or twice
+  expect_error(with_criteria("          behavior: CartPole\n          after_emerged: chasing\n"),
+               path + ".after_emerged", 12,
+               "expected a list of strategy names (e.g. [running_and_chasing]), got 'chasing'");
+  expect_error(with_criteria("          behavior: CartPole\n          after_emerged: [\"\"]\n"),
+               path + ".after_emerged[0]", 12, "must not be empty");
+  expect_error(
+      with_criteria("          behavior: CartPole\n          after_emerged: [chasing, chasing]\n"),
+      path + ".after_emerged[1]", 12, "names the strategy 'chasing' twice");
   // A reward threshold may be any number.
   EXPECT_EQ(parse(with_criteria("          behavior: CartPole\n          threshold: -3\n"))
                 .environment_parameters.at("h")
@@ -809,6 +818,24 @@ TEST(ConfigParserTest, FallbackCriteriaRoundTrip) {
   const std::string plain = run_config_to_yaml(
       parse(with_criteria("          behavior: CartPole\n          threshold: 0.5\n")));
   EXPECT_EQ(plain.find("fallback"), std::string::npos) << plain;
+}
+
+TEST(ConfigParserTest, AfterEmergedRoundTrip) {
+  const RunConfig config = parse(with_criteria(
+      "          behavior: CartPole\n          threshold: 0.5\n"
+      "          after_emerged: [running_and_chasing, shelter]\n"));
+  const CompletionCriteria& criteria =
+      *config.environment_parameters.at("h").curriculum[0].completion_criteria;
+  EXPECT_EQ(criteria.after_emerged, (std::vector<std::string>{"running_and_chasing", "shelter"}));
+  const std::string yaml = run_config_to_yaml(config);
+  EXPECT_NE(yaml.find("after_emerged: [running_and_chasing, shelter]"), std::string::npos) << yaml;
+  const RunConfig again = parse(yaml);
+  EXPECT_EQ(again.environment_parameters.at("h").curriculum[0].completion_criteria, criteria);
+  EXPECT_EQ(run_config_to_yaml(again), yaml);
+  // without it nothing is written
+  const std::string plain = run_config_to_yaml(
+      parse(with_criteria("          behavior: CartPole\n          threshold: 0.5\n")));
+  EXPECT_EQ(plain.find("after_emerged"), std::string::npos) << plain;
 }
 
 // other_parameters: a lesson may set further env parameters; every lesson names the same ones and

@@ -522,6 +522,74 @@ TEST(EnvironmentParameterManagerTest, MetricNamesAreCheckedAgainstTheEnv) {
   EXPECT_NO_THROW(three_lessons(1, 0.5).check_metric_names({}));  // nothing measures a metric
 }
 
+// Three lessons of `height` on the Jumper's reward, the first of which also waits for the
+// strategy "chasing" to emerge.
+EnvironmentParameterManager lessons_after_chasing(bool smoothing) {
+  CompletionCriteria waits = reward_criteria("Jumper", 0.7, 1, smoothing);
+  waits.after_emerged = {"chasing"};
+  return EnvironmentParameterManager(
+      {{"height", curriculum({lesson("Low", 0.f, waits),
+                              lesson("Mid", 4.f, reward_criteria("Jumper", 0.7, 1, smoothing)),
+                              lesson("High", 8.f)})}});
+}
+
+TEST(EnvironmentParameterManagerTest, ALessonAfterAStrategyWaitsForItToEmerge) {
+  EnvironmentParameterManager manager = lessons_after_chasing(/*smoothing=*/false);
+  manager.add_episode_reward("Jumper", 1.0);
+  // met, but "chasing" has not emerged (another strategy has): the lesson goes on, said once
+  LessonUpdate update = manager.update(kJumperProgress, {"shelter"});
+  EXPECT_FALSE(update.changed);
+  EXPECT_EQ(manager.lessons().at("height"), 0);
+  ASSERT_EQ(update.waits.size(), 1u);
+  EXPECT_EQ(update.waits[0],
+            "Curriculum height: lesson 0 (Low) met its threshold and goes on until the strategy "
+            "chasing has emerged (after_emerged)");
+  EXPECT_TRUE(manager.update(kJumperProgress, {"shelter"}).waits.empty());
+  EXPECT_EQ(manager.reward_buffer("Jumper"), (std::vector<double>{1.0}));  // nothing cleared
+  // emerged: the lesson ends on the episodes it already has
+  update = manager.update(kJumperProgress, {"shelter", "chasing"});
+  EXPECT_TRUE(update.changed);
+  EXPECT_TRUE(update.waits.empty());
+  EXPECT_EQ(manager.lessons().at("height"), 1);
+  // the next lesson does not wait for anything
+  manager.add_episode_reward("Jumper", 1.0);
+  EXPECT_TRUE(manager.update(kJumperProgress).changed);
+  EXPECT_EQ(manager.lessons().at("height"), 2);
+}
+
+TEST(EnvironmentParameterManagerTest, AStrategyThatEmergedFirstChangesNothing) {
+  // the control: with the strategy emerged from the start, the lessons and smoothed values move
+  // update for update as they do with no after_emerged at all
+  EnvironmentParameterManager waits = lessons_after_chasing(/*smoothing=*/true);
+  EnvironmentParameterManager plain = three_lessons(1, 0.7, /*smoothing=*/true);
+  for (const double reward : {0.5, 0.9, 0.2, 1.0, 1.0, 0.8, 1.0}) {
+    waits.add_episode_reward("Jumper", reward);
+    plain.add_episode_reward("Jumper", reward);
+    const LessonUpdate a = waits.update(kJumperProgress, {"chasing"});
+    const LessonUpdate b = plain.update(kJumperProgress);
+    EXPECT_EQ(a.changed, b.changed);
+    EXPECT_EQ(waits.lessons(), plain.lessons());
+    EXPECT_DOUBLE_EQ(waits.smoothed_value("height"), plain.smoothed_value("height"));
+  }
+  EXPECT_EQ(plain.lessons().at("height"), 2);
+}
+
+TEST(EnvironmentParameterManagerTest, StrategyNamesAreCheckedAgainstTheEnv) {
+  EnvironmentParameterManager manager = lessons_after_chasing(false);
+  EXPECT_NO_THROW(manager.check_strategy_names({"shelter", "chasing"}));
+  try {
+    manager.check_strategy_names({"running_and_chasing", "shelter"});
+    FAIL() << "a strategy the env does not declare must be an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "environment_parameters.height, lesson 'Low': completion_criteria.after_emerged "
+                 "names the strategy 'chasing', which the environment does not declare (it "
+                 "declares: running_and_chasing, shelter)");
+  }
+  EXPECT_THROW(manager.check_strategy_names({}), std::invalid_argument);
+  EXPECT_NO_THROW(three_lessons(1, 0.5).check_strategy_names({}));  // nothing waits
+}
+
 TEST(EnvironmentParameterManagerTest, MetricBuffersSurviveAResume) {
   EnvironmentParameterManager manager = metric_lessons(3, 0.9);
   manager.add_episode_metrics({{"fort_rate", 1.f}});

@@ -91,8 +91,13 @@ class BadNumberEnv : public Env {
 // parameter x, and whether it is below one half, as episode metrics.
 class LessonEchoEnv : public Env {
  public:
-  LessonEchoEnv() {
-    spec_.name = "LessonEchoEnv";
+  // with_strategies (registered as StrategyEchoEnv): the env also declares two strategies, low_x
+  // (two episodes in a row played with x < 0.5) and high_x (two with x above 1.5)
+  explicit LessonEchoEnv(bool with_strategies = false) {
+    spec_.name = with_strategies ? "StrategyEchoEnv" : "LessonEchoEnv";
+    if (with_strategies)
+      spec_.strategies = {{"low_x", "below_half", "Echo", 0.5f, 2, {}},
+                          {"high_x", "value", "Echo", 1.5f, 2, {}}};
     spec_.max_episode_steps = 5;
     BehaviorSpec b;
     b.name = "Echo";
@@ -178,6 +183,10 @@ class TrainingRunTest : public ::testing::Test {
     if (!EnvRegistry::instance().contains("LessonEchoEnv"))
       EnvRegistry::instance().add(
           "LessonEchoEnv", [](const Parameters&) { return std::make_unique<LessonEchoEnv>(); });
+    if (!EnvRegistry::instance().contains("StrategyEchoEnv"))
+      EnvRegistry::instance().add("StrategyEchoEnv", [](const Parameters&) {
+        return std::make_unique<LessonEchoEnv>(/*with_strategies=*/true);
+      });
     if (!EnvRegistry::instance().contains("TurnEchoEnv"))
       EnvRegistry::instance().add("TurnEchoEnv",
                                   [](const Parameters&) { return std::make_unique<TurnEchoEnv>(); });
@@ -584,6 +593,48 @@ TEST_F(TrainingRunTest, ACollapsedLessonFallsBackAndTheLogSaysSo) {
             std::string::npos)
       << log_.str();
   EXPECT_EQ(run.parameters().furthest_lessons().at("x"), 1);
+}
+
+// StrategyEchoEnv's lessons A (x = 0), B (x = 1) and C (x = 2) as in echo_curriculum_config,
+// lesson A also waiting for `strategy` to emerge.
+RunConfig echo_after_emerged_config(const std::string& strategy) {
+  std::string a = echo_lesson_a();
+  a.replace(a.find("min_lesson_length: 2}"), 21,
+            "min_lesson_length: 2, after_emerged: [" + strategy + "]}");
+  std::ostringstream y;
+  y << a << "      - name: B\n        value: 1\n"
+    << "        completion_criteria: {measure: metric, metric: value, threshold: 0, "
+    << "min_lesson_length: 1, signal_smoothing: false}\n"
+    << "      - name: C\n        value: 2\n"
+    << "env_settings: {env_id: StrategyEchoEnv, num_envs: 3, seed: 0}\n";
+  return load_run_config_from_string(y.str(), "echo.yaml");
+}
+
+TEST_F(TrainingRunTest, ALessonAfterAStrategyWaitsUntilItEmerges) {
+  // low_x emerges in lesson A's own episodes: A ends, and B and C follow
+  TrainingRun run(echo_after_emerged_config("low_x"), options("echo_after_low"));
+  run.train();
+  EXPECT_EQ(run.parameters().lesson_names().at("x"), "C");
+  EXPECT_NE(log_.str().find("Strategy low_x emerged"), std::string::npos) << log_.str();
+  // high_x needs x = 2, which only lesson C plays: A met its threshold and never ends
+  log_.str("");
+  TrainingRun held(echo_after_emerged_config("high_x"), options("echo_after_high"));
+  held.train();
+  EXPECT_EQ(held.parameters().lesson_names().at("x"), "A");
+  const std::string wait =
+      "Curriculum x: lesson 0 (A) met its threshold and goes on until the strategy high_x has "
+      "emerged (after_emerged)";
+  const std::string log = log_.str();
+  ASSERT_NE(log.find(wait), std::string::npos) << log;
+  EXPECT_EQ(log.find(wait, log.find(wait) + 1), std::string::npos) << "said once: " << log;
+}
+
+TEST_F(TrainingRunTest, AnUnknownStrategyToWaitForIsAnErrorBeforeWriting) {
+  expect_rejected_before_writing(
+      echo_after_emerged_config("chasing"), options("echo_bad_strategy"),
+      "echo.yaml: environment_parameters.x, lesson 'A': completion_criteria.after_emerged names "
+      "the strategy 'chasing', which the environment does not declare (it declares: low_x, "
+      "high_x)");
 }
 
 TEST_F(TrainingRunTest, ALessonValueTheEnvRejectsIsAnErrorBeforeWriting) {
