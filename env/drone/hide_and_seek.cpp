@@ -117,6 +117,9 @@ struct HideAndSeek::Settings {
   // that of its own opening, h mod the open ones (the one its objects observation lists first),
   // and every hider that of an opening no hider owns
   int close_credit = 0;
+  // 1 (the paper's): a hider may grab, lock and unlock any prop; 0: only its own props, owned
+  // as close_credit owns openings (prop i goes with opening i)
+  bool shared_props = true;
   float fort_reward = 0.0f;    // per opening closed when the prep phase ends, to every hider
   float unlock_cost = 0.0f;    // taken from a hider per prop it unlocks
   float tagged_reward = -1.0f;
@@ -206,6 +209,7 @@ HideAndSeek::HideAndSeek()
       {"cover_depth", 0.5f},
       {"lock_keeps_shaping", 0.f},
       {"close_credit", 0.f},
+      {"shared_props", 1.f},
       {"fort_reward", 0.f},
       {"unlock_cost", 0.f},
       {"tagged_reward", -1.f},
@@ -235,13 +239,15 @@ HideAndSeek::HideAndSeek()
   // level 2 and above (level 1's single doorway is the curriculum's first lesson) with the props
   // starting at their own places (prop_start_offset 1: not placed in the openings for the hiders)
   // in games of the full length (a curriculum may shorten the test phase of its lessons; shelter
-  // is dated in the game SPEC section 4 describes)
+  // is dated in the game SPEC section 4 describes) where any hider may move any prop (the
+  // paper's shared_props: a lesson may narrow it)
   spec_.strategies = {
       {"running_and_chasing", "tag_rate", "Seeker", 0.5f, 100, {}},
       {"shelter", "fort_rate", "Hider", 0.5f, 100,
        {{"level", 2.f},
         {"prop_start_offset", 1.f},
-        {"episode_frames", float(kFullEpisodeFrames)}}},
+        {"episode_frames", float(kFullEpisodeFrames)},
+        {"shared_props", 1.f}}},
   };
   world_ = std::make_unique<drone::BulletWorld>();
 }
@@ -370,6 +376,7 @@ void HideAndSeek::build_episode() {
   s.shaping_range = drone::float_parameter(*this, "shaping_range", 0.1f, 50.0f);
   s.lock_keeps_shaping = drone::int_parameter(*this, "lock_keeps_shaping", 0, 1) == 1;
   s.close_credit = drone::int_parameter(*this, "close_credit", 0, 1);
+  s.shared_props = drone::int_parameter(*this, "shared_props", 0, 1) == 1;
   s.tagged_reward = parameter("tagged_reward");
   s.seen_reward = parameter("seen_reward");
   s.unseen_reward = parameter("unseen_reward");
@@ -604,12 +611,26 @@ void HideAndSeek::reset(StepView& out) {
   }
 }
 
+bool HideAndSeek::owns(int hider, int index, int n) const {
+  return index >= num_agents_[kHider] || (hider + settings_->owner_shift) % n == index;
+}
+
+unsigned HideAndSeek::props_allowed(const Agent& a) const {
+  if (a.team != kHider || settings_->shared_props) return drone::kAllProps;
+  unsigned allowed = 0;
+  const int n = props_->size();
+  for (int i = 0; i < n && i < 32; ++i)
+    if (owns(a.slot, i, n)) allowed |= 1u << i;
+  return allowed;
+}
+
 bool HideAndSeek::apply_grab_and_lock(Agent& a, const int* discrete) {
   if (a.team != kHider) return false;  // the mask forbids it; ignore a forbidden choice
   drone::DroneBody& d = *a.drone;
+  const unsigned allowed = props_allowed(a);
   const int before = props_->held_by(d);
   if (discrete[kGrabBranch] == 1) {
-    const int got = props_->grab(d);
+    const int got = props_->grab(d, allowed);
     if (got >= 0 && got != before) record_event("grab", &d.body(), (*props_)[got].body);
   } else if (before >= 0 && !settings_->latched_grab) {
     props_->release(d);
@@ -617,10 +638,10 @@ bool HideAndSeek::apply_grab_and_lock(Agent& a, const int* discrete) {
   }
   const int team = static_cast<int>(kHider);
   if (discrete[kLockBranch] == 1) {
-    const int i = props_->lock(d, team);
+    const int i = props_->lock(d, team, allowed);
     if (i >= 0) record_event("lock", &d.body(), (*props_)[i].body);
   } else if (discrete[kLockBranch] == 2) {
-    const int i = props_->unlock(d, team);
+    const int i = props_->unlock(d, team, allowed);
     if (i >= 0) {
       record_event("unlock", &d.body(), (*props_)[i].body);
       return true;
@@ -885,7 +906,7 @@ void HideAndSeek::check_openings(StepView& io) {
       // opening o is owned by the hiders with (h + owner_shift) mod num_open = o, if there are any
       paid = 0.0f;
       for (int o = 0; o < num_open; ++o)
-        if (o >= num_agents_[kHider] || (h + s.owner_shift) % num_open == o) paid += of_opening[o];
+        if (owns(h, o, num_open)) paid += of_opening[o];
     }
     if (paid != 0.0f) io[kHider].reward(h) += paid;
   }
@@ -963,11 +984,12 @@ void HideAndSeek::write_mask(BehaviorView& view, const Agent& a) const {
   const bool hider = a.team == kHider;
   const bool cues = settings_->prop_cues;
   const drone::DroneBody& d = *a.drone;
+  const unsigned allowed = props_allowed(a);
   m[0] = 1;
-  m[1] = hider && (!cues || props_->held_by(d) >= 0 || props_->grabbable(d) >= 0);
+  m[1] = hider && (!cues || props_->held_by(d) >= 0 || props_->grabbable(d, allowed) >= 0);
   m[2] = 1;
-  m[3] = hider && (!cues || props_->lockable(d) >= 0);
-  m[4] = hider && (!cues || props_->unlockable(d, kHider) >= 0);
+  m[3] = hider && (!cues || props_->lockable(d, allowed) >= 0);
+  m[4] = hider && (!cues || props_->unlockable(d, kHider, allowed) >= 0);
 }
 
 void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
@@ -1014,8 +1036,9 @@ void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {
   v[16] = seen ? clip1(rel.dot(fwd) / s.vision_range) : 0.0f;
   v[17] = seen ? 1.0f : 0.0f;
   // what the lock branch could do now (the vision of the props cannot tell locked from unlocked)
-  v[18] = s.prop_cues && props_->lockable(d) >= 0 ? 1.0f : 0.0f;
-  v[19] = s.prop_cues && props_->unlockable(d, kHider) >= 0 ? 1.0f : 0.0f;
+  const unsigned allowed = props_allowed(a);
+  v[18] = s.prop_cues && props_->lockable(d, allowed) >= 0 ? 1.0f : 0.0f;
+  v[19] = s.prop_cues && props_->unlockable(d, kHider, allowed) >= 0 ? 1.0f : 0.0f;
   write_objects(view.observation(a.slot, 1), a);
   float* outs[3] = {view.observation(a.slot, 2), view.observation(a.slot, 3),
                     view.observation(a.slot, 4)};

@@ -89,6 +89,12 @@
 //     only the close reward of its own opening, h mod the number of open ones (the one its
 //     objects observation lists first), and every hider that of an opening no hider owns: at
 //     level 2 each of two hiders answers for one doorway, at level 1 both for the one.
+//     With `shared_props` 0 (1, the default, is the paper's: any hider may move any prop) a
+//     hider's grab, lock and unlock act only on its own props, owned as the openings are (prop
+//     i goes with opening i; the prop its objects observation lists first): at level 2 each of
+//     two hiders may take only the prop of its own doorway, at level 1 both the one, and the
+//     masks and vector [18, 20) say so. It narrows the game for a curriculum's lessons (a
+//     teammate's prop can still be pushed); shelter counts only games with shared props.
 //     + fort_reward (0) per opening closed when the prep phase ends (the fort the seekers meet:
 //     the close reward pays the closing, this the keeping; a quick unlock and relock pays again).
 //     - unlock_cost (0) from a hider for every prop it unlocks: the held close reward refunds an
@@ -243,6 +249,12 @@ class HideAndSeek : public Env {
   // level 2 with prop_pairing 1: where props 0 and 1 start, given prop_start_offset `offset`,
   // the props' centre height and the room's inner half-size
   std::vector<btVector3> paired_level2_starts(float offset, float prop_y, float inner);
+  // whether hider slot `hider` owns opening (or prop) `index` of the level's n: the one numbered
+  // (hider + owner_shift) mod n, and every one past the hiders' count (nobody's, so everyone's)
+  bool owns(int hider, int index, int n) const;
+  // the props this agent's grab, lock and unlock may act on (PropSet's mask): a hider's own
+  // with shared_props 0, else all
+  unsigned props_allowed(const Agent& agent) const;
   // true when the agent unlocked a prop
   bool apply_grab_and_lock(Agent& agent, const int* discrete);
   void run_frame(StepView& io);

@@ -92,11 +92,12 @@ bool PropSet::in_front(const DroneBody& drone, int i) const {
 }
 
 template <typename Ok>
-int PropSet::nearest(const DroneBody& drone, Ok ok) const {
+int PropSet::nearest(const DroneBody& drone, unsigned allowed, Ok ok) const {
   int best = -1;
   float best_gap = std::numeric_limits<float>::infinity();
   for (int i = 0; i < size(); ++i) {
-    if (!ok(props_[i])) continue;
+    const bool may = i >= 32 || ((allowed >> i) & 1u) != 0;  // a mask names the first 32
+    if (!may || !ok(props_[i])) continue;
     const float g = gap(drone, i);
     if (g > params_.reach || g >= best_gap || !in_front(drone, i)) continue;
     best = i;
@@ -119,10 +120,10 @@ int PropSet::held_by(const DroneBody& drone) const {
   return -1;
 }
 
-int PropSet::grab(const DroneBody& drone) {
+int PropSet::grab(const DroneBody& drone, unsigned allowed) {
   const int held = held_by(drone);
   if (held >= 0) return held;
-  const int i = grabbable(drone);
+  const int i = grabbable(drone, allowed);
   if (i < 0) return -1;
   Prop& prop = props_[i];
   // the drone's body is owned by the world; the constraint needs it non-const
@@ -144,21 +145,21 @@ int PropSet::release(const DroneBody& drone) {
   return i;
 }
 
-int PropSet::grabbable(const DroneBody& drone) const {
-  return nearest(drone, [](const Prop& p) { return !p.locked() && p.held_by == nullptr; });
+int PropSet::grabbable(const DroneBody& drone, unsigned allowed) const {
+  return nearest(drone, allowed, [](const Prop& p) { return !p.locked() && p.held_by == nullptr; });
 }
 
-int PropSet::lockable(const DroneBody& drone) const {
-  return nearest(drone, [](const Prop& p) { return !p.locked(); });
+int PropSet::lockable(const DroneBody& drone, unsigned allowed) const {
+  return nearest(drone, allowed, [](const Prop& p) { return !p.locked(); });
 }
 
-int PropSet::unlockable(const DroneBody& drone, int team) const {
-  const int i = nearest(drone, [](const Prop& p) { return p.locked(); });
+int PropSet::unlockable(const DroneBody& drone, int team, unsigned allowed) const {
+  const int i = nearest(drone, allowed, [](const Prop& p) { return p.locked(); });
   return i >= 0 && props_[i].locked_by == team ? i : -1;
 }
 
-int PropSet::lock(const DroneBody& drone, int team) {
-  const int i = lockable(drone);
+int PropSet::lock(const DroneBody& drone, int team, unsigned allowed) {
+  const int i = lockable(drone, allowed);
   if (i < 0 || team == kNoTeam) return -1;
   Prop& prop = props_[i];
   drop(prop);
@@ -174,8 +175,8 @@ int PropSet::lock(const DroneBody& drone, int team) {
   return i;
 }
 
-int PropSet::unlock(const DroneBody& drone, int team) {
-  const int i = unlockable(drone, team);
+int PropSet::unlock(const DroneBody& drone, int team, unsigned allowed) {
+  const int i = unlockable(drone, team, allowed);
   if (i < 0) return -1;
   Prop& prop = props_[i];
   btRigidBody* body = prop.body;

@@ -24,6 +24,8 @@
 //           factors, so nothing can move it; it remembers the locking team;
 //   unlock: the nearest locked prop in reach and in front is unfrozen (mass, inertia and factors
 //           restored) only when `team` is the team that locked it; otherwise it fails (-1).
+// Each rule also takes the props the drone may act on (`allowed`, bit i for prop i; all by
+// default): the others are passed over as if they were out of reach.
 // Obstacles (add_obstacle) are light boxes (tag kObstacle, 0.5 kg) with weak per-body gravity
 // (0.981 m/s^2 down, 1/10 g, set on the body since the world gravity is 0), low friction (0.05)
 // and little damping (0.1), so that they glide and drift once pushed and settle slowly.
@@ -67,6 +69,8 @@ struct ObstacleParams {
 };
 
 inline constexpr int kNoTeam = -1;
+// PropSet's `allowed` masks: bit i lets a drone act on prop i
+inline constexpr unsigned kAllProps = ~0u;
 
 // one prop: its body (owned by the world) and its state
 struct Prop {
@@ -93,16 +97,16 @@ class PropSet {
   int add(const btVector3& centre, float yaw, const btVector3& half);
 
   // the rules in the header comment; each returns the prop's index or -1 on failure
-  int grab(const DroneBody& drone);
+  int grab(const DroneBody& drone, unsigned allowed = kAllProps);
   int release(const DroneBody& drone);
-  int lock(const DroneBody& drone, int team);
-  int unlock(const DroneBody& drone, int team);
+  int lock(const DroneBody& drone, int team, unsigned allowed = kAllProps);
+  int unlock(const DroneBody& drone, int team, unsigned allowed = kAllProps);
 
   int held_by(const DroneBody& drone) const;  // index of the prop the drone holds or -1
   // what grab, lock and unlock would act on now, without acting: the prop's index or -1
-  int grabbable(const DroneBody& drone) const;
-  int lockable(const DroneBody& drone) const;
-  int unlockable(const DroneBody& drone, int team) const;
+  int grabbable(const DroneBody& drone, unsigned allowed = kAllProps) const;
+  int lockable(const DroneBody& drone, unsigned allowed = kAllProps) const;
+  int unlockable(const DroneBody& drone, int team, unsigned allowed = kAllProps) const;
   // surface gap between the drone and prop i, and whether prop i is in the drone's front cone
   float gap(const DroneBody& drone, int i) const;
   bool in_front(const DroneBody& drone, int i) const;
@@ -113,9 +117,9 @@ class PropSet {
 
  private:
   btVector3 closest_point(const DroneBody& drone, int i) const;
-  // nearest prop in reach and in front that passes `ok`, or -1
+  // nearest allowed prop in reach and in front that passes `ok`, or -1
   template <typename Ok>
-  int nearest(const DroneBody& drone, Ok ok) const;
+  int nearest(const DroneBody& drone, unsigned allowed, Ok ok) const;
   void drop(Prop& prop);  // removes the prop's grab constraint if any
 
   BulletWorld& world_;

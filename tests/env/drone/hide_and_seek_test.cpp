@@ -422,8 +422,9 @@ TEST(HideAndSeekTest, ClockFramesSetsTheClockObservationsScale) {
   EXPECT_FLOAT_EQ(short_clock.hiders().observations[0][12], 1.0f);
 }
 
-// shelter is dated at level 2 and above, with the props at their own places, in full games only:
-// a lesson that shortens the test phase at the own places does not count
+// shelter is dated at level 2 and above, with the props at their own places, in full games with
+// shared props only: a lesson that shortens the test phase at the own places, or keeps each hider
+// to its own prop, does not count
 TEST(HideAndSeekTest, ShelterCountsFullGamesAtTheOwnPlacesFromLevelTwo) {
   HideAndSeek env;
   const auto& strategies = env.spec().strategies;
@@ -431,7 +432,8 @@ TEST(HideAndSeekTest, ShelterCountsFullGamesAtTheOwnPlacesFromLevelTwo) {
                                     [](const StrategySpec& s) { return s.name == "shelter"; });
   ASSERT_NE(shelter, strategies.end());
   EXPECT_EQ(shelter->describe_conditions(),
-            "level >= 2 and prop_start_offset >= 1 and episode_frames >= 3072");
+            "level >= 2 and prop_start_offset >= 1 and episode_frames >= 3072 and "
+            "shared_props >= 1");
 }
 
 TEST(HideAndSeekTest, SeekersCannotGrabOrLock) {
@@ -1121,6 +1123,66 @@ TEST(HideAndSeekTest, OwnCloseCreditPaysEachHiderForItsOwnOpening) {
   EXPECT_FLOAT_EQ(one_own.hider0, one_team.hider0);
   EXPECT_FLOAT_EQ(one_own.hider1, one_team.hider1);
   EXPECT_FLOAT_EQ(one_own.hider1, one_own.hider0);
+}
+
+// shared_props 0: a hider's grab, lock and unlock pass over its teammate's prop (level 2: prop
+// i goes with doorway i, hider h's is (h + owner_shift) mod 2), and its mask says so; at level 1
+// the one prop is both hiders'
+TEST(HideAndSeekTest, UnsharedPropsKeepAHiderOffItsTeammatesProp) {
+  struct Tried {
+    bool grab_allowed, lock_allowed, closed, unlock_allowed, unlocked;
+  };
+  // hider `who` stands behind the prop in doorway `door` (props in their doorways), reads its
+  // mask, then locks; afterwards the prop is locked for it and it tries to unlock
+  const auto try_prop = [](float level, float shared, int who, int door, float shift = 0.f) {
+    Game g({{"level", level},
+            {"prop_start_offset", 0.f},
+            {"shared_props", shared},
+            {"owner_shift", shift}},
+           5);
+    auto& hider = *g.env.agent(HideAndSeek::kHider, who).drone;
+    stand_behind(hider, g.env.props()[door], g.env.arena().openings()[door].normal);
+    g.idle_step();
+    Tried t{};
+    const uint8_t* m = g.hiders().action_mask.data() + who * 5;  // [grab 2, lock 3]
+    t.grab_allowed = m[1] == 1;
+    t.lock_allowed = m[3] == 1;
+    g.set_all(0.0f);
+    g.hiders().discrete_actions[who * 2 + 1] = 1;  // lock
+    g.harness.step();
+    t.closed = g.env.opening_closed(door);
+    if (!g.env.props()[door].locked()) {
+      EXPECT_EQ(g.env.props().lock(hider, HideAndSeek::kHider), door);  // as the teammate would
+    }
+    g.idle_step();
+    t.unlock_allowed = m[4] == 1;
+    g.set_all(0.0f);
+    g.hiders().discrete_actions[who * 2 + 1] = 2;  // unlock
+    g.harness.step();
+    t.unlocked = !g.env.props()[door].locked();
+    return t;
+  };
+  // level 2, hider 0 at doorway 1 (its teammate's): nothing it may do there
+  const Tried mate = try_prop(2.f, 0.f, 0, 1);
+  EXPECT_FALSE(mate.grab_allowed);
+  EXPECT_FALSE(mate.lock_allowed);
+  EXPECT_FALSE(mate.closed);
+  EXPECT_FALSE(mate.unlock_allowed);
+  EXPECT_FALSE(mate.unlocked);
+  // the same with shared props (the paper's), at its own doorway, and with the jobs swapped
+  for (const Tried& t : {try_prop(2.f, 1.f, 0, 1), try_prop(2.f, 0.f, 0, 0),
+                         try_prop(2.f, 0.f, 1, 1), try_prop(2.f, 0.f, 0, 1, 1.f)}) {
+    EXPECT_TRUE(t.grab_allowed);
+    EXPECT_TRUE(t.lock_allowed);
+    EXPECT_TRUE(t.closed);
+    EXPECT_TRUE(t.unlock_allowed);
+    EXPECT_TRUE(t.unlocked);
+  }
+  EXPECT_FALSE(try_prop(2.f, 0.f, 1, 0).closed);  // hider 1 at hider 0's doorway
+  EXPECT_FALSE(try_prop(2.f, 0.f, 1, 1, 1.f).closed);  // swapped: doorway 1 is hider 0's
+  // level 1: the one prop is both hiders'
+  EXPECT_TRUE(try_prop(1.f, 0.f, 0, 0).closed);
+  EXPECT_TRUE(try_prop(1.f, 0.f, 1, 0).closed);
 }
 
 TEST(HideAndSeekTest, ReachShapingPaysForAHiderComingNearTheProp) {

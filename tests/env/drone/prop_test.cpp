@@ -165,6 +165,25 @@ TEST(PropTest, GrabNeedsReachAndFront) {
   EXPECT_EQ(props.grab(other), -1);
 }
 
+// an `allowed` mask passes over the props it leaves out, nearest or not
+TEST(PropTest, AllowedMaskPassesOverOtherProps) {
+  BulletWorld world;
+  PropSet props(world);
+  DroneBody drone(world, btVector3(0, 2, 0), 0.0f, kHider);
+  const int near = props.add(btVector3(0, 2, 1.0f));
+  const int further = props.add(btVector3(0.4f, 2, 1.6f));
+  EXPECT_EQ(props.grabbable(drone), near);
+  EXPECT_EQ(props.grabbable(drone, 1u << further), further);
+  EXPECT_EQ(props.grabbable(drone, 0u), -1);
+  EXPECT_EQ(props.grab(drone, 0u), -1);
+  EXPECT_EQ(props.lock(drone, kHiders, 1u << further), further);
+  EXPECT_EQ(props.unlockable(drone, kHiders, 1u << near), -1);
+  EXPECT_EQ(props.unlock(drone, kHiders, 1u << near), -1);
+  EXPECT_TRUE(props[further].locked());
+  EXPECT_EQ(props.grab(drone, 1u << near), near);
+  EXPECT_EQ(props.unlock(drone, kHiders), further);
+}
+
 // rams the prop at top speed for 2 s from 3 m; returns how far the prop's centre moved
 float ram(BulletWorld& world, DroneBody& drone, const PropSet& props, int p) {
   const btVector3 before = props[p].position();
