@@ -96,7 +96,8 @@ int PropSet::nearest(const DroneBody& drone, unsigned allowed, Ok ok) const {
   int best = -1;
   float best_gap = std::numeric_limits<float>::infinity();
   for (int i = 0; i < size(); ++i) {
-    const bool may = i >= 32 || ((allowed >> i) & 1u) != 0;  // a mask names the first 32
+    // a mask names the first 32 props; the ones past it only kAllProps lets through
+    const bool may = i < 32 ? ((allowed >> i) & 1u) != 0 : allowed == kAllProps;
     if (!may || !ok(props_[i])) continue;
     const float g = gap(drone, i);
     if (g > params_.reach || g >= best_gap || !in_front(drone, i)) continue;

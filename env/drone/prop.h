@@ -25,7 +25,8 @@
 //   unlock: the nearest locked prop in reach and in front is unfrozen (mass, inertia and factors
 //           restored) only when `team` is the team that locked it; otherwise it fails (-1).
 // Each rule also takes the props the drone may act on (`allowed`, bit i for prop i; all by
-// default): the others are passed over as if they were out of reach.
+// default, kAllProps, which alone also lets through props from the 33rd on): the others are
+// passed over as if they were out of reach.
 // Obstacles (add_obstacle) are light boxes (tag kObstacle, 0.5 kg) with weak per-body gravity
 // (0.981 m/s^2 down, 1/10 g, set on the body since the world gravity is 0), low friction (0.05)
 // and little damping (0.1), so that they glide and drift once pushed and settle slowly.

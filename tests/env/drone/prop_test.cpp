@@ -184,6 +184,18 @@ TEST(PropTest, AllowedMaskPassesOverOtherProps) {
   EXPECT_EQ(props.unlock(drone, kHiders), further);
 }
 
+// a mask names the first 32 props: one that narrows them leaves the rest out, kAllProps not
+TEST(PropTest, PropsPastTheMasksBitsNeedAllProps) {
+  BulletWorld world;
+  PropSet props(world);
+  DroneBody drone(world, btVector3(0, 2, 0), 0.0f, kHider);
+  for (int i = 0; i < 32; ++i) props.add(btVector3(20.0f + 3.0f * i, 2, 20.0f));  // out of reach
+  const int last = props.add(btVector3(0, 2, 1.0f));
+  ASSERT_EQ(last, 32);
+  EXPECT_EQ(props.grabbable(drone), last);
+  EXPECT_EQ(props.grabbable(drone, ~1u), -1);
+}
+
 // rams the prop at top speed for 2 s from 3 m; returns how far the prop's centre moved
 float ram(BulletWorld& world, DroneBody& drone, const PropSet& props, int p) {
   const btVector3 before = props[p].position();
