@@ -146,6 +146,7 @@ struct HideAndSeek::Settings {
   bool prop_cues = true;  // vector [18, 20) and the hiders' masks say what prop actions would do
   bool object_obs = true;  // the "objects" observation (else zeros)
   bool sensor_obs = true;  // the rays and both grids (else zeros)
+  bool hider_slot_obs = true;  // a hider's objects end with its slot one-hot (else zeros)
   bool latched_grab = false;  // grab option 0 keeps a held prop; only a lock lets it go
   bool square_grab = false;   // a grab swings the panel face-on to the drone (PropParams)
 };
@@ -232,6 +233,7 @@ HideAndSeek::HideAndSeek()
       {"prop_cues", 1.f},
       {"object_obs", 1.f},
       {"sensor_obs", 1.f},
+      {"hider_slot_obs", 1.f},
       {"latched_grab", 0.f},
       {"square_grab", 0.f},
   };
@@ -396,6 +398,7 @@ void HideAndSeek::build_episode() {
   s.prop_cues = drone::int_parameter(*this, "prop_cues", 0, 1) == 1;
   s.object_obs = drone::int_parameter(*this, "object_obs", 0, 1) == 1;
   s.sensor_obs = drone::int_parameter(*this, "sensor_obs", 0, 1) == 1;
+  s.hider_slot_obs = drone::int_parameter(*this, "hider_slot_obs", 0, 1) == 1;
   s.latched_grab = drone::int_parameter(*this, "latched_grab", 0, 1) == 1;
   s.square_grab = drone::int_parameter(*this, "square_grab", 0, 1) == 1;
   // -1: the level's own (0 at levels 1 and 2, 0.5 at 3 and 4)
@@ -1127,7 +1130,9 @@ void HideAndSeek::write_objects(float* out, const Agent& a) const {
     mate[3] = 1.0f;
   }
   float* slot = mate + 4;  // [kMaxSeekers]
-  slot[a.slot] = 1.0f;
+  // without it two hiders with the same view act alike: level 1's one prop cannot teach one
+  // slot to leave the work to the other
+  if (a.team == kSeeker || settings_->hider_slot_obs) slot[a.slot] = 1.0f;
 }
 
 void HideAndSeek::update_sensor_scene() {

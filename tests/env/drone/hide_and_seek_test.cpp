@@ -704,6 +704,34 @@ TEST(HideAndSeekTest, ObjectsObservationPlacesPropsOpeningsAndTheTeammate) {
     ASSERT_EQ(x, 0.0f);
 }
 
+// hider_slot_obs 0: the hiders' objects end with zeros where their slot was, the seekers keep
+// theirs, and nothing else of the observation changes
+TEST(HideAndSeekTest, HiderSlotObsZeroLeavesOutOnlyTheHidersSlot) {
+  constexpr int kSlot = HideAndSeek::kMaxProps * HideAndSeek::kPropFloats +
+                        drone::kNumOpenings * HideAndSeek::kOpeningFloats + 4;
+  Game with({{"level", 1.f}, {"num_hiders", 2.f}, {"num_seekers", 2.f}}, 3);
+  Game without({{"level", 1.f}, {"num_hiders", 2.f}, {"num_seekers", 2.f}, {"hider_slot_obs", 0.f}},
+               3);
+  with.idle_step();
+  without.idle_step();
+  for (int h = 0; h < 2; ++h) {
+    const float* a = with.hiders().observations[1].data() + h * HideAndSeek::kObjectsSize;
+    const float* b = without.hiders().observations[1].data() + h * HideAndSeek::kObjectsSize;
+    EXPECT_EQ(a[kSlot + h], 1.0f) << "hider " << h;
+    for (int i = 0; i < HideAndSeek::kObjectsSize; ++i) {
+      if (i >= kSlot)
+        EXPECT_EQ(b[i], 0.0f) << "hider " << h << ", float " << i;
+      else
+        EXPECT_EQ(a[i], b[i]) << "hider " << h << ", float " << i;
+    }
+  }
+  for (int k = 0; k < 2; ++k) {
+    const float* b = without.seekers().observations[1].data() + k * HideAndSeek::kObjectsSize;
+    EXPECT_EQ(b[kSlot + k], 1.0f) << "seeker " << k;
+  }
+  EXPECT_EQ(with.seekers().observations[1], without.seekers().observations[1]);
+}
+
 // each open opening's entry says, at a fine scale, how far its prop is from standing in it, and
 // which way the opening and the panel face, all in the agent's frame
 TEST(HideAndSeekTest, ObjectsObservationTellsHowFarEachPropIsFromStandingInItsOpening) {
