@@ -537,6 +537,8 @@ void HideAndSeek::build_episode() {
   test_frames_ = seen_frames_ = hidden_frames_ = 0;
   closed_at_prep_end_ = 0;
   fort_ = false;
+  closed_own_at_prep_end_.fill(false);
+  handled_in_prep_.fill(false);
   if (s.close_reward_mode != 0) {  // the potential where the props start
     std::array<bool, kNumOpenings> closed{};
     for (int o = 0; o < kNumOpenings; ++o) closed[o] = opening_closed(o);
@@ -634,7 +636,10 @@ bool HideAndSeek::apply_grab_and_lock(Agent& a, const int* discrete) {
   const int before = props_->held_by(d);
   if (discrete[kGrabBranch] == 1) {
     const int got = props_->grab(d, allowed);
-    if (got >= 0 && got != before) record_event("grab", &d.body(), (*props_)[got].body);
+    if (got >= 0 && got != before) {
+      record_event("grab", &d.body(), (*props_)[got].body);
+      handled_in_prep_[a.slot] = handled_in_prep_[a.slot] || in_prep();
+    }
   } else if (before >= 0 && !settings_->latched_grab) {
     props_->release(d);
     record_event("release", &d.body(), (*props_)[before].body);
@@ -642,7 +647,10 @@ bool HideAndSeek::apply_grab_and_lock(Agent& a, const int* discrete) {
   const int team = static_cast<int>(kHider);
   if (discrete[kLockBranch] == 1) {
     const int i = props_->lock(d, team, allowed);
-    if (i >= 0) record_event("lock", &d.body(), (*props_)[i].body);
+    if (i >= 0) {
+      record_event("lock", &d.body(), (*props_)[i].body);
+      handled_in_prep_[a.slot] = handled_in_prep_[a.slot] || in_prep();
+    }
   } else if (discrete[kLockBranch] == 2) {
     const int i = props_->unlock(d, team, allowed);
     if (i >= 0) {
@@ -734,6 +742,12 @@ void HideAndSeek::run_frame(StepView& io) {
     // the prep phase ends: measure the fort, free the seekers
     closed_at_prep_end_ = count_closed();
     fort_ = closed_at_prep_end_ == arena_->num_open();
+    const int num_open = arena_->num_open();
+    for (int h = 0; h < kMaxHiders; ++h) {
+      bool all = agent(kHider, h).present;
+      for (int o = 0; o < num_open && all; ++o) all = !owns(h, o, num_open) || opening_closed(o);
+      closed_own_at_prep_end_[h] = all;
+    }
     // the fort the seekers will meet: what keeping the openings closed through the prep is for
     if (s.reward_preset == 0 && s.fort_reward != 0.0f && closed_at_prep_end_ > 0) {
       for (int h = 0; h < kMaxHiders; ++h)
@@ -1187,7 +1201,10 @@ bool HideAndSeek::take_recording(EpisodeRecording& out) {
 }
 
 EpisodeMetrics HideAndSeek::episode_metrics() const {
+  static_assert(kMaxHiders == 2, "one pair of per-hider metrics for each hider slot");
   const float test = static_cast<float>(std::max<long>(test_frames_, 1));
+  // (a hider tagged later in the test phase has left, but it played the prep phase)
+  const auto idle = [&](int h) { return h < num_agents_[kHider] && !handled_in_prep_[h]; };
   return {{"tag_rate", tagged_ > 0 ? 1.0f : 0.0f},
           {"seen_fraction", seen_frames_ / test},
           {"hidden_fraction", hidden_frames_ / test},
@@ -1195,7 +1212,13 @@ EpisodeMetrics HideAndSeek::episode_metrics() const {
           {"openings_closed", static_cast<float>(closed_at_prep_end_)},
           {"tagged", static_cast<float>(tagged_)},
           // the offset the props started at (levels 1 and 2; else 1)
-          {"prop_start_offset", episode_offset_}};
+          {"prop_start_offset", episode_offset_},
+          // each hider apart (0 for an absent one): every opening it is paid for closed at the
+          // end of the prep phase, and no prop grabbed or locked in it
+          {"hider0_closed_own", closed_own_at_prep_end_[0] ? 1.0f : 0.0f},
+          {"hider1_closed_own", closed_own_at_prep_end_[1] ? 1.0f : 0.0f},
+          {"hider0_idle", idle(0) ? 1.0f : 0.0f},
+          {"hider1_idle", idle(1) ? 1.0f : 0.0f}};
 }
 
 bool HideAndSeek::write_scripted_actions(int behavior, BehaviorView& view) {

@@ -321,6 +321,10 @@ class HideAndSeek : public Env {
   long hidden_frames_ = 0;
   int closed_at_prep_end_ = 0;
   bool fort_ = false;
+  // [hider slot]: every opening it is paid for (owns) closed when the prep phase ended; it
+  // grabbed or locked a prop during the prep phase
+  std::array<bool, kMaxHiders> closed_own_at_prep_end_{};
+  std::array<bool, kMaxHiders> handled_in_prep_{};
   bool last_all_hidden_ = true;  // at the last test-phase frame (baker reward)
 
   // recording

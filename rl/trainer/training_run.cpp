@@ -39,26 +39,45 @@ const char* kMetricsHeader =
     "step,elapsed_s,episodes,mean_return,std_return,mean_length,policy_loss,value_loss,"
     "baseline_loss,entropy,learning_rate,epsilon,beta,elo,approx_kl,clip_fraction\n";
 
+std::vector<std::string> csv_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::istringstream in(line);
+  for (std::string field; std::getline(in, field, ',');) fields.push_back(field);
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
 // keeps the rows of a metrics file whose step is <= `step` (after a resume). A last row without
 // its newline is the start of a write that was cut off (a kill, a full disk) and goes too: its
-// first field may be a prefix of the step it was meant to hold. With `header` (a behavior's
-// metrics), a file written before columns were added at the end of the header gets the new
-// header and empty fields for them in its kept rows; any other header is an error.
+// first field may be a prefix of the step it was meant to hold. With `header` (the columns the
+// run writes), a file written before columns were added, wherever they fall, gets the new header
+// and its kept rows their fields moved under it, empty for the new columns; a header with a
+// column the run does not write is an error and the file is left as it was.
 void truncate_metrics(const std::string& path, int64_t step, const std::string& header = "") {
   std::ifstream in(path, std::ios::binary);
   if (!in) return;
   std::string contents((std::istreambuf_iterator<char>(in)), {});
   if (!contents.empty() && contents.back() != '\n') contents.erase(contents.rfind('\n') + 1);
   std::istringstream lines(contents);
-  std::string line, kept, padding;
+  std::string line, kept;
+  std::vector<int> place;  // each old column's index in the new header (empty: the same header)
+  int new_columns = 0;
   for (int64_t number = 1; std::getline(lines, line); ++number) {
     if (number == 1) {  // the header
       const std::string wanted = header.empty() ? line : header.substr(0, header.find('\n'));
       if (line != wanted) {
-        if (wanted.compare(0, line.size() + 1, line + ",") != 0)
-          throw std::runtime_error(path + ":1: the header is '" + line + "', expected '" + wanted +
-                                   "' (the run was not resumed; the file was left as it was)");
-        padding = std::string(std::count(wanted.begin() + line.size(), wanted.end(), ','), ',');
+        const std::vector<std::string> old = csv_fields(line), now = csv_fields(wanted);
+        new_columns = int(now.size());
+        for (const std::string& name : old) {
+          const auto at = std::find(now.begin(), now.end(), name);
+          const bool twice = std::count(old.begin(), old.end(), name) > 1;
+          if (at == now.end() || twice)
+            throw std::runtime_error(path + ":1: the header is '" + line + "', expected '" + wanted +
+                                     "' (column '" + name + "' " +
+                                     (twice ? "appears twice" : "is not written any more") +
+                                     "; the run was not resumed; the file was left as it was)");
+          place.push_back(int(at - now.begin()));
+        }
       }
       kept += wanted + "\n";
       continue;
@@ -69,7 +88,21 @@ void truncate_metrics(const std::string& path, int64_t step, const std::string& 
     if (first.empty() || *end != '\0')
       throw std::runtime_error(path + ":" + std::to_string(number) + ": expected a step, got '" +
                                first + "' (the run was not resumed; the file was left as it was)");
-    if (row_step <= step) kept += line + padding + "\n";
+    if (row_step > step) continue;
+    if (place.empty()) {
+      kept += line + "\n";
+      continue;
+    }
+    const std::vector<std::string> fields = csv_fields(line);
+    if (fields.size() != place.size())
+      throw std::runtime_error(path + ":" + std::to_string(number) + ": " +
+                               std::to_string(fields.size()) + " fields under a header of " +
+                               std::to_string(place.size()) +
+                               " (the run was not resumed; the file was left as it was)");
+    std::vector<std::string> moved(new_columns);
+    for (size_t i = 0; i < fields.size(); ++i) moved[place[i]] = fields[i];
+    for (int i = 0; i < new_columns; ++i) kept += (i ? "," : "") + moved[i];
+    kept += "\n";
   }
   write_file_atomically(path, kept);
 }
@@ -278,7 +311,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
       load_checkpoint(folder_->file(last.file), false);
       for (auto& t : trainers_)
         truncate_metrics(folder_->metrics_path(t->behavior()), t->step(), kMetricsHeader);
-      truncate_metrics(folder_->episode_metrics_path(), total_steps());
+      truncate_metrics(folder_->episode_metrics_path(), total_steps(), episode_metrics_header());
     }
     status_.finished = false;
   } else {
@@ -1061,23 +1094,36 @@ void TrainingRun::track_episodes(const std::vector<FinishedEpisode>& finished) {
   }
 }
 
+std::set<std::string> TrainingRun::episode_metric_columns() const {
+  const std::vector<std::string> names = env_->episode_metric_names();
+  return std::set<std::string>(names.begin(), names.end());
+}
+
+std::string TrainingRun::episode_metrics_header() const {
+  std::ostringstream out;
+  out << "total_steps,elapsed_s,episodes";
+  for (const auto& t : trainers_) out << ',' << t->behavior() << "_step";
+  for (const auto& [name, lesson] : parameters_.lessons()) out << ",lesson_" << name;
+  for (const std::string& name : episode_metric_columns()) out << ',' << name;
+  for (const auto& s : strategies_.strategies()) out << ",smoothed_" << s.metric << "_" << s.name;
+  out << '\n';
+  return out.str();
+}
+
 void TrainingRun::log_episode_metrics() {
   if (!folder_ || episode_window_count_ == 0) return;
   const std::string path = folder_->episode_metrics_path();
   const bool fresh = !fs::exists(path) || fs::file_size(path) == 0;
   std::ostringstream out;
-  if (fresh) {
-    out << "total_steps,elapsed_s,episodes";
-    for (const auto& t : trainers_) out << ',' << t->behavior() << "_step";
-    for (const auto& [name, lesson] : parameters_.lessons()) out << ",lesson_" << name;
-    for (const auto& [name, sum_count] : episode_window_) out << ',' << name;
-    for (const auto& s : strategies_.strategies()) out << ",smoothed_" << s.metric << "_" << s.name;
-    out << '\n';
-  }
+  if (fresh) out << episode_metrics_header();
   out << total_steps() << ',' << elapsed() << ',' << episode_window_count_;
   for (const auto& t : trainers_) out << ',' << t->step();
   for (const auto& [name, lesson] : parameters_.lessons()) out << ',' << lesson;
-  for (const auto& [name, sum_count] : episode_window_) out << ',' << sum_count.first / sum_count.second;
+  for (const std::string& name : episode_metric_columns()) {
+    out << ',';
+    const auto it = episode_window_.find(name);
+    if (it != episode_window_.end()) out << it->second.first / it->second.second;
+  }
   for (int i = 0; i < int(strategies_.strategies().size()); ++i) out << ',' << strategies_.rate(i);
   out << '\n';
   append_to_file(path, out.str());

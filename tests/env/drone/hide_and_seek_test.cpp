@@ -1213,6 +1213,51 @@ TEST(HideAndSeekTest, UnsharedPropsKeepAHiderOffItsTeammatesProp) {
   EXPECT_TRUE(try_prop(1.f, 0.f, 1, 0).closed);
 }
 
+// hider `who` locks the prop standing in doorway 0, then the prep phase runs out idle; the
+// episode's metrics
+EpisodeMetrics lock_doorway_then_end_prep(Game& g, int who) {
+  stand_behind(*g.env.agent(HideAndSeek::kHider, who).drone, g.env.props()[0],
+               g.env.arena().openings()[0].normal);
+  g.idle_step();
+  g.set_all(0.0f);
+  g.hiders().discrete_actions[who * 2 + 1] = 1;  // lock
+  g.harness.step();
+  EXPECT_TRUE(g.env.opening_closed(0));
+  g.set_all(0.0f);
+  while (g.env.in_prep()) g.harness.step();
+  return g.env.episode_metrics();
+}
+
+// each hider's own metrics: at level 2 with the props in their doorways, the hider that locks
+// its own prop has its doorway closed and was not idle; its teammate, which did nothing, the
+// other way round; with owner_shift 1 the same lock is the teammate's doorway
+TEST(HideAndSeekTest, PerHiderMetricsTellWhoClosedItsOwnDoorwayAndWhoIdled) {
+  for (const float shift : {0.f, 1.f}) {
+    Game g({{"level", 2.f},
+            {"prop_start_offset", 0.f},
+            {"owner_shift", shift},
+            {"episode_frames", 120.f},
+            {"prep_fraction", 0.5f}},
+           5);
+    const auto m = lock_doorway_then_end_prep(g, 0);
+    ASSERT_FALSE(g.env.opening_closed(1));
+    EXPECT_EQ(m.at("hider0_idle"), 0.0f) << "shift " << shift;
+    EXPECT_EQ(m.at("hider1_idle"), 1.0f) << "shift " << shift;
+    EXPECT_EQ(m.at("hider0_closed_own"), shift == 0.f ? 1.0f : 0.0f) << "shift " << shift;
+    EXPECT_EQ(m.at("hider1_closed_own"), shift == 0.f ? 0.0f : 1.0f) << "shift " << shift;
+    EXPECT_EQ(m.at("fort_rate"), 0.0f);
+  }
+  // level 1: the one doorway is both hiders', so one lock closes it for both
+  Game one({{"level", 1.f}, {"prop_start_offset", 0.f}, {"episode_frames", 120.f},
+            {"prep_fraction", 0.5f}},
+           5);
+  const auto m = lock_doorway_then_end_prep(one, 1);
+  EXPECT_EQ(m.at("hider0_closed_own"), 1.0f);
+  EXPECT_EQ(m.at("hider1_closed_own"), 1.0f);
+  EXPECT_EQ(m.at("hider0_idle"), 1.0f);
+  EXPECT_EQ(m.at("hider1_idle"), 0.0f);
+}
+
 TEST(HideAndSeekTest, ReachShapingPaysForAHiderComingNearTheProp) {
   Game g({{"level", 1.f},
           {"num_hiders", 1.f},

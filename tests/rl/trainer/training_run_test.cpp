@@ -437,6 +437,82 @@ TEST_F(TrainingRunTest, CurriculumCountsTheLearningBehaviorsStepsAndSurvivesResu
   for (size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(torch::equal(a[i], b[i])) << i;
 }
 
+// metrics/episodes.csv of a run begun by a build whose env had fewer metrics: resumed, the file
+// gets today's header and its kept rows keep their values under it, empty where the new column
+// falls (here between the lesson and the other metrics); a column nobody writes any more is an
+// error naming the file and the column, and the file stays as it was
+TEST_F(TrainingRunTest, AResumeMovesEpisodeMetricsUnderAHeaderWithANewColumn) {
+  {
+    TrainingRun first(pursuit_curriculum_config(2000, 500), options("ep_old"));
+    first.train(/*stop_after_boundaries=*/2);
+  }
+  const fs::path episodes = dir_ / "ep_old" / "metrics" / "episodes.csv";
+  std::vector<std::vector<std::string>> rows;
+  {
+    std::istringstream lines(file_contents(episodes));
+    for (std::string line; std::getline(lines, line);) {
+      std::vector<std::string> fields;
+      std::istringstream in(line);
+      for (std::string f; std::getline(in, f, ',');) fields.push_back(f);
+      rows.push_back(fields);
+    }
+  }
+  ASSERT_GE(rows.size(), 2u) << "a header and a row before the checkpoint";
+  const std::vector<std::string> header = rows[0];
+  const auto column = std::find(header.begin(), header.end(), "seen_fraction") - header.begin();
+  ASSERT_LT(column, int(header.size()) - 1) << "seen_fraction is not the last column";
+  ASSERT_GT(column, 0);
+  // the file as the older build wrote it: no seen_fraction
+  std::string old_file;
+  for (auto row : rows) {
+    row.erase(row.begin() + column);
+    for (size_t i = 0; i < row.size(); ++i) old_file += (i ? "," : "") + row[i];
+    old_file += "\n";
+  }
+  write_text(episodes, old_file);
+  auto opt = options("ep_old");
+  opt.resume = true;
+  { TrainingRun(pursuit_curriculum_config(2000, 500), opt).train(); }
+  std::istringstream after(file_contents(episodes));
+  std::string line;
+  std::getline(after, line);
+  std::string joined;
+  for (size_t i = 0; i < header.size(); ++i) joined += (i ? "," : "") + header[i];
+  EXPECT_EQ(line, joined);
+  int kept = 0, measured = 0;
+  for (size_t r = 1; std::getline(after, line); ++r) {
+    std::vector<std::string> fields;
+    std::istringstream in(line);
+    for (std::string f; std::getline(in, f, ',');) fields.push_back(f);
+    if (!line.empty() && line.back() == ',') fields.emplace_back();
+    ASSERT_EQ(fields.size(), header.size()) << "row " << r << ": " << line;
+    if (fields[column].empty()) {
+      ++kept;
+      ASSERT_LT(r, rows.size()) << "an empty seen_fraction in a row written after the resume";
+      for (size_t i = 0; i < fields.size(); ++i)
+        if (int(i) != column) EXPECT_EQ(fields[i], rows[r][i]) << "row " << r << ", column " << i;
+    } else {
+      ++measured;
+      EXPECT_GE(std::stod(fields[column]), 0.0);
+    }
+  }
+  EXPECT_GT(kept, 0);
+  EXPECT_GT(measured, 0);
+  // a column the run does not write
+  const std::string other = "total_steps,elapsed_s,episodes,retired_metric\n1,2,3,4\n";
+  write_text(episodes, other);
+  try {
+    TrainingRun again(pursuit_curriculum_config(2000, 500), opt);
+    ADD_FAILURE() << "resumed over an episodes file with a column nobody writes";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("episodes.csv:1:"), std::string::npos) << what;
+    EXPECT_NE(what.find("column 'retired_metric' is not written any more"), std::string::npos)
+        << what;
+  }
+  EXPECT_EQ(file_contents(episodes), other);
+}
+
 // Pursuit as the hide-and-seek run plays it, small: Hider on PPO and Seeker on MA-POCA take turns
 // of different lengths, opponents are drawn from windows of snapshots or the latest policy, the
 // seekers' turns play their turn_parameters, `level` advances on an episode metric and falls back
