@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rl/core/csv_line.h"
 #include "rl/trainer/run_folder.h"
 
 namespace fs = std::filesystem;
@@ -22,15 +23,6 @@ int CsvTable::column(const std::string& name) const {
 }
 
 namespace {
-
-std::vector<std::string> split_commas(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream in(line);
-  std::string cell;
-  while (std::getline(in, cell, ',')) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
 
 double parse_cell(const std::string& cell) {
   const char* begin = cell.c_str();
@@ -49,10 +41,10 @@ CsvTable read_csv_table(const std::string& path) {
   std::string line;
   if (!std::getline(in, line) || line.empty())
     throw std::runtime_error(path + " has no header row");
-  table.columns = split_commas(line);
+  table.columns = split_csv_line(line);
   while (std::getline(in, line)) {
     if (line.empty()) continue;
-    const auto cells = split_commas(line);
+    const auto cells = split_csv_line(line);
     // a row shorter than the header (a column added since) has NaN in the missing cells
     std::vector<double> row(table.columns.size(), std::numeric_limits<double>::quiet_NaN());
     for (size_t i = 0; i < std::min(cells.size(), row.size()); ++i) row[i] = parse_cell(cells[i]);

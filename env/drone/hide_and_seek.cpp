@@ -540,9 +540,7 @@ void HideAndSeek::build_episode() {
   closed_own_at_prep_end_.fill(false);
   handled_in_prep_.fill(false);
   if (s.close_reward_mode != 0) {  // the potential where the props start
-    std::array<bool, kNumOpenings> closed{};
-    for (int o = 0; o < kNumOpenings; ++o) closed[o] = opening_closed(o);
-    potential_ = opening_potential(closed);
+    potential_ = opening_potential(closed_openings());
   }
   // seekers are frozen in the prep phase
   const bool prep = prep_frames_ > 0;
@@ -701,10 +699,15 @@ bool HideAndSeek::opening_closed(int o) const {
   return false;
 }
 
+std::array<bool, kNumOpenings> HideAndSeek::closed_openings() const {
+  std::array<bool, kNumOpenings> closed{};
+  for (int o = 0; o < kNumOpenings; ++o) closed[o] = opening_closed(o);
+  return closed;
+}
+
 int HideAndSeek::count_closed() const {
-  int n = 0;
-  for (int o = 0; o < kNumOpenings; ++o) n += opening_closed(o);
-  return n;
+  const std::array<bool, kNumOpenings> closed = closed_openings();
+  return static_cast<int>(std::count(closed.begin(), closed.end(), true));
 }
 
 void HideAndSeek::tag(Agent& hider, StepView& io) {
@@ -740,12 +743,13 @@ void HideAndSeek::run_frame(StepView& io) {
   ++total_frames_;
   if (frame_ == prep_frames_) {
     // the prep phase ends: measure the fort, free the seekers
-    closed_at_prep_end_ = count_closed();
-    fort_ = closed_at_prep_end_ == arena_->num_open();
+    const std::array<bool, kNumOpenings> closed = closed_openings();
     const int num_open = arena_->num_open();
+    closed_at_prep_end_ = static_cast<int>(std::count(closed.begin(), closed.end(), true));
+    fort_ = closed_at_prep_end_ == num_open;
     for (int h = 0; h < kMaxHiders; ++h) {
       bool all = agent(kHider, h).present;
-      for (int o = 0; o < num_open && all; ++o) all = !owns(h, o, num_open) || opening_closed(o);
+      for (int o = 0; o < num_open && all; ++o) all = !owns(h, o, num_open) || closed[o];
       closed_own_at_prep_end_[h] = all;
     }
     // the fort the seekers will meet: what keeping the openings closed through the prep is for

@@ -237,8 +237,10 @@ class HideAndSeek : public Env {
   long prep_frames() const { return prep_frames_; }
   bool in_prep() const { return frame_ < prep_frames_; }
   int level() const { return level_; }
-  // whether open opening `o` is closed by a locked prop now, and how many open ones are
+  // whether open opening `o` is closed by a locked prop now, that for every opening, and how
+  // many open ones are
   bool opening_closed(int o) const;
+  std::array<bool, drone::kNumOpenings> closed_openings() const;
   int count_closed() const;
   // true when some seeker in the game sees hider `h` now
   bool hider_seen(int h) const;

@@ -20,6 +20,7 @@
 #include "rl/core/archive_io.h"
 #include "rl/core/atomic_file.h"
 #include "rl/core/compute_threads.h"
+#include "rl/core/csv_line.h"
 #include "rl/core/json.h"
 #include "rl/core/machine_info.h"
 #include "rl/core/policy_export.h"
@@ -38,14 +39,6 @@ namespace {
 const char* kMetricsHeader =
     "step,elapsed_s,episodes,mean_return,std_return,mean_length,policy_loss,value_loss,"
     "baseline_loss,entropy,learning_rate,epsilon,beta,elo,approx_kl,clip_fraction\n";
-
-std::vector<std::string> csv_fields(const std::string& line) {
-  std::vector<std::string> fields;
-  std::istringstream in(line);
-  for (std::string field; std::getline(in, field, ',');) fields.push_back(field);
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
-}
 
 // keeps the rows of a metrics file whose step is <= `step` (after a resume). A last row without
 // its newline is the start of a write that was cut off (a kill, a full disk) and goes too: its
@@ -66,7 +59,7 @@ void truncate_metrics(const std::string& path, int64_t step, const std::string& 
     if (number == 1) {  // the header
       const std::string wanted = header.empty() ? line : header.substr(0, header.find('\n'));
       if (line != wanted) {
-        const std::vector<std::string> old = csv_fields(line), now = csv_fields(wanted);
+        const std::vector<std::string> old = split_csv_line(line), now = split_csv_line(wanted);
         new_columns = int(now.size());
         for (const std::string& name : old) {
           const auto at = std::find(now.begin(), now.end(), name);
@@ -93,7 +86,7 @@ void truncate_metrics(const std::string& path, int64_t step, const std::string& 
       kept += line + "\n";
       continue;
     }
-    const std::vector<std::string> fields = csv_fields(line);
+    const std::vector<std::string> fields = split_csv_line(line);
     if (fields.size() != place.size())
       throw std::runtime_error(path + ":" + std::to_string(number) + ": " +
                                std::to_string(fields.size()) + " fields under a header of " +
@@ -1094,17 +1087,12 @@ void TrainingRun::track_episodes(const std::vector<FinishedEpisode>& finished) {
   }
 }
 
-std::set<std::string> TrainingRun::episode_metric_columns() const {
-  const std::vector<std::string> names = env_->episode_metric_names();
-  return std::set<std::string>(names.begin(), names.end());
-}
-
 std::string TrainingRun::episode_metrics_header() const {
   std::ostringstream out;
   out << "total_steps,elapsed_s,episodes";
   for (const auto& t : trainers_) out << ',' << t->behavior() << "_step";
   for (const auto& [name, lesson] : parameters_.lessons()) out << ",lesson_" << name;
-  for (const std::string& name : episode_metric_columns()) out << ',' << name;
+  for (const std::string& name : env_->episode_metric_names()) out << ',' << name;
   for (const auto& s : strategies_.strategies()) out << ",smoothed_" << s.metric << "_" << s.name;
   out << '\n';
   return out.str();
@@ -1119,7 +1107,7 @@ void TrainingRun::log_episode_metrics() {
   out << total_steps() << ',' << elapsed() << ',' << episode_window_count_;
   for (const auto& t : trainers_) out << ',' << t->step();
   for (const auto& [name, lesson] : parameters_.lessons()) out << ',' << lesson;
-  for (const std::string& name : episode_metric_columns()) {
+  for (const std::string& name : env_->episode_metric_names()) {
     out << ',';
     const auto it = episode_window_.find(name);
     if (it != episode_window_.end()) out << it->second.first / it->second.second;

@@ -13,7 +13,6 @@
 #include <iosfwd>
 #include <map>
 #include <memory>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -124,8 +123,7 @@ class TrainingRun {
   void track_episodes(const std::vector<FinishedEpisode>& finished);
   // appends a row to metrics/episodes.csv with the episodes since the last row
   void log_episode_metrics();
-  // the env's episode metrics as metrics/episodes.csv has them, in name order, and its header
-  std::set<std::string> episode_metric_columns() const;
+  // metrics/episodes.csv's header (the env's episode metrics in name order)
   std::string episode_metrics_header() const;
   int64_t total_steps() const;
   void show_progress(bool force);
