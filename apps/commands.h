@@ -13,6 +13,7 @@ int run_envs(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
 int run_plot(const std::vector<std::string>& args);
 int run_replay(const std::vector<std::string>& args);
+int run_lessons(const std::vector<std::string>& args);
 
 extern const char* const kTrainHelp;
 extern const char* const kEvalHelp;
@@ -21,5 +22,6 @@ extern const char* const kEnvsHelp;
 extern const char* const kBenchHelp;
 extern const char* const kPlotHelp;
 extern const char* const kReplayHelp;
+extern const char* const kLessonsHelp;
 
 }  // namespace rlt

@@ -115,7 +115,8 @@ bool all_zero(const Series& s) {
   return std::all_of(s.y.begin(), s.y.end(), [](double v) { return v == 0; });
 }
 
-// columns of episodes.csv that are neither steps, time, counts, lessons nor strategy rates
+}  // namespace
+
 bool is_episode_metric(const std::string& column, const RunCurves& run) {
   if (column == "total_steps" || column == "elapsed_s" || column == "episodes") return false;
   if (column.rfind("lesson_", 0) == 0 || column.rfind("smoothed_", 0) == 0) return false;
@@ -123,8 +124,6 @@ bool is_episode_metric(const std::string& column, const RunCurves& run) {
     if (column == b + "_step") return false;
   return true;
 }
-
-}  // namespace
 
 std::vector<Figure> learning_curve_figures(const std::vector<RunCurves>& runs, double smoothing) {
   if (smoothing < 0 || smoothing >= 1) throw std::invalid_argument("smoothing must be in [0, 1)");

@@ -35,6 +35,10 @@ struct RunCurves {
 // Reads the run folder `dir`; throws naming what is missing when it is not a run folder.
 RunCurves read_run_curves(const std::string& dir, const std::string& label);
 
+// Whether `column` of the run's episodes.csv is one of the env's episode metrics: not steps, time,
+// the episode count, a lesson or a smoothed strategy rate.
+bool is_episode_metric(const std::string& column, const RunCurves& run);
+
 struct Series {
   std::string title;
   int colour = 0;                // the same run and behavior keep their colour in every figure

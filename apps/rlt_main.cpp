@@ -22,6 +22,7 @@ Commands:
                    (--policy Hider=scripted), optionally recording the episodes (--record FILE)
   export RUN_DIR   write each behavior's TorchScript policy to RUN_DIR/<Behavior>.pt
   plot RUN_DIR...  draw the learning curves of one run or several side by side as PNG files
+  lessons RUN_DIR  where a run spent its curriculum: each lesson's steps and episode metrics
   replay FILE      play a recorded episode in a 3D viewer in the browser (served on localhost)
   envs             list the registered environments and their behavior specs
   bench            measure training, environment or matrix-product throughput
@@ -60,7 +61,7 @@ int main(int argc, char** argv) {
       {"train", rlt::run_train, rlt::kTrainHelp},    {"eval", rlt::run_eval, rlt::kEvalHelp},
       {"export", rlt::run_export, rlt::kExportHelp}, {"envs", rlt::run_envs, rlt::kEnvsHelp},
       {"bench", rlt::run_bench, rlt::kBenchHelp},    {"plot", rlt::run_plot, rlt::kPlotHelp},
-      {"replay", rlt::run_replay, rlt::kReplayHelp}};
+      {"replay", rlt::run_replay, rlt::kReplayHelp}, {"lessons", rlt::run_lessons, rlt::kLessonsHelp}};
   for (const auto& e : entries) {
     if (command != e.name) continue;
     for (const auto& a : args)

@@ -3,11 +3,9 @@
 // points: the negative control), the points and their smoothing are the files' values, several
 // runs share a figure, and bad input is a clear error.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -17,6 +15,7 @@
 #include "apps/learning_curves.h"
 #include "rl/trainer/run_folder.h"
 #include "tests/apps/png_reader.h"
+#include "tests/apps/shell_command.h"
 
 #ifndef RLT_BINARY
 #error "RLT_BINARY must name the rlt executable"
@@ -27,17 +26,8 @@ namespace fs = std::filesystem;
 namespace rlt {
 namespace {
 
-struct Result {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using test::read_text;
+using Result = test::CommandResult;
 
 // the first two colours of `rlt plot`'s palette: the first and second run-and-behavior
 constexpr uint32_t kFirst = 0x1f77b4, kSecond = 0xd62728;
@@ -54,11 +44,7 @@ class RltPlotTest : public testing::Test {
   void TearDown() override { fs::remove_all(root_); }
 
   Result rlt(const std::string& args, const std::string& env = "") {
-    const fs::path out = root_ / "stdout.txt", err = root_ / "stderr.txt";
-    const std::string command =
-        env + " " + RLT_BINARY + " " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
-    const int status = std::system(command.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
+    return test::run_shell(env + " " + RLT_BINARY + " " + args, root_);
   }
 
   // A run folder like rlt train's for a self-play hide-and-seek run: 40 updates per behavior
