@@ -2,7 +2,7 @@
 // run entered it, how many steps it spent there, and the env's episode metrics averaged over the
 // episodes played in it (what `rlt lessons` prints). Read from metrics/episodes.csv, whose rows are
 // one per summary: a lesson's figures are those of the rows logged while it was current, so a
-// lesson change is placed to within one summary.
+// lesson change is placed to within one summary and a lesson passed between two summaries has none.
 #pragma once
 
 #include <string>

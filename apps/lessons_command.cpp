@@ -22,8 +22,9 @@ Prints, for each lesson of a curriculum a training run has entered, the step at 
 it, the steps it spent there, how many separate stretches that took (a fallback adds one), and the
 mean of every episode metric of the env over the episodes played there (each summary's mean
 weighted by its episodes), as a Markdown table. Reads metrics/episodes.csv, whose rows are one per
-summary, so a lesson change is placed to within one summary; lesson names come from the run's
-configuration.yaml. Works while the run is still training.
+summary, so a lesson change is placed to within one summary and a lesson passed between two
+summaries has no row (the next lesson's row starts where it started); lesson names come from the
+run's configuration.yaml. Works while the run is still training.
 
 Options:
   --parameter NAME  the curriculum parameter (default: the run's only one; needed when it has
