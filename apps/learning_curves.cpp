@@ -53,6 +53,12 @@ CsvTable read_csv_table(const std::string& path) {
   return table;
 }
 
+RunFolder run_folder_at(const std::string& dir) {
+  fs::path folder = fs::absolute(dir).lexically_normal();
+  if (!folder.has_filename()) folder = folder.parent_path();  // "results/run/"
+  return RunFolder(folder.parent_path().string(), folder.filename().string());
+}
+
 RunCurves read_run_curves(const std::string& dir, const std::string& label) {
   const fs::path metrics = fs::path(dir) / "metrics";
   if (!fs::is_directory(dir)) throw std::runtime_error(dir + " is not a folder");
@@ -73,9 +79,7 @@ RunCurves read_run_curves(const std::string& dir, const std::string& label) {
   }
   if (fs::exists(metrics / "episodes.csv"))
     run.episodes = read_csv_table((metrics / "episodes.csv").string());
-  fs::path folder = fs::absolute(dir).lexically_normal();
-  if (!folder.has_filename()) folder = folder.parent_path();  // "results/run/"
-  RunFolder run_folder(folder.parent_path().string(), folder.filename().string());
+  const RunFolder run_folder = run_folder_at(dir);
   if (fs::exists(run_folder.status_path()))
     for (const auto& e : run_folder.read_status().strategies)
       run.strategies.push_back({e.strategy, e.metric, e.behavior});

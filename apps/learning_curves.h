@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "rl/trainer/run_folder.h"
+
 namespace rlt {
 
 // A CSV file of numbers with a header row; cells that are empty or not numbers are NaN.
@@ -31,6 +33,9 @@ struct RunCurves {
   };
   std::vector<Strategy> strategies;  // from training_status.json
 };
+
+// The run folder at the path `dir` (a trailing slash allowed), for its files' names.
+RunFolder run_folder_at(const std::string& dir);
 
 // Reads the run folder `dir`; throws naming what is missing when it is not a run folder.
 RunCurves read_run_curves(const std::string& dir, const std::string& label);

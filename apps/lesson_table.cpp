@@ -79,9 +79,10 @@ LessonTable summarize_lessons(const RunCurves& run, const std::string& parameter
                                "has: " + joined(available) + ")");
     metric_columns.push_back(table.column(m));
   }
-  const int counter = behavior.empty() ? table.column("total_steps") : step_columns[counted];
-  const int episodes_column = require_column(table, "episodes", "column 'episodes'", {});
-  if (counter < 0) throw std::runtime_error("column 'total_steps' is not in metrics/episodes.csv");
+  const int counter = behavior.empty()
+                          ? require_column(table, "total_steps", "column 'total_steps'", table.columns)
+                          : step_columns[counted];
+  const int episodes_column = require_column(table, "episodes", "column 'episodes'", table.columns);
 
   LessonTable out{parameter, behavior, metrics, {}};
   std::map<int, size_t> index;  // lesson -> its place in out.lessons

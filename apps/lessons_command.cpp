@@ -1,7 +1,6 @@
 // rlt lessons: where a run spent its curriculum, lesson by lesson, with the env's episode metrics.
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -45,9 +44,7 @@ namespace {
 // the lesson names of `parameter` in the run's configuration.yaml; none without the file, and
 // none with a warning when it cannot be read (the table needs only the metrics)
 std::vector<std::string> lesson_names(const std::string& dir, const std::string& parameter) {
-  fs::path folder = fs::absolute(dir).lexically_normal();
-  if (!folder.has_filename()) folder = folder.parent_path();
-  const RunFolder run(folder.parent_path().string(), folder.filename().string());
+  const RunFolder run = run_folder_at(dir);
   if (!fs::exists(run.config_path())) return {};
   RunConfig config;
   try {
