@@ -539,6 +539,9 @@ void HideAndSeek::build_episode() {
   fort_ = false;
   closed_own_at_prep_end_.fill(false);
   handled_in_prep_.fill(false);
+  closed_own_in_prep_.fill(false);
+  covered_own_at_prep_end_.fill(false);
+  own_gap_at_prep_end_.fill(0.0f);
   if (s.close_reward_mode != 0) {  // the potential where the props start
     potential_ = opening_potential(closed_openings());
   }
@@ -686,6 +689,39 @@ bool HideAndSeek::hider_seen(int h) const {
   return false;
 }
 
+void HideAndSeek::measure_own_openings(const std::array<bool, kNumOpenings>& closed) {
+  const int num_open = arena_->num_open();
+  const auto nearest_prop = [&](int o) {  // m from the opening's centre
+    float nearest = std::numeric_limits<float>::infinity();
+    for (int i = 0; i < props_->size(); ++i)
+      nearest = std::min(nearest, ((*props_)[i].position() - arena_->openings()[o].centre).length());
+    return nearest;
+  };
+  const auto covered = [&](int o) {
+    if (closed[o]) return true;
+    for (int i = 0; i < props_->size(); ++i) {
+      const drone::Prop& prop = (*props_)[i];
+      if ((prop.position() - arena_->openings()[o].centre).length() > kCoverReach) continue;
+      if (drone::covered_fraction(arena_->openings()[o], *prop.body) > kClosedCover) return true;
+    }
+    return false;
+  };
+  for (int h = 0; h < kMaxHiders; ++h) {
+    if (!agent(kHider, h).present) continue;
+    bool once = true, cover = true;
+    float gap = 0.0f;
+    for (int o = 0; o < num_open; ++o) {
+      if (!owns(h, o, num_open)) continue;
+      once = once && (ever_closed_[o] || closed[o]);
+      cover = cover && covered(o);
+      gap = std::max(gap, nearest_prop(o));
+    }
+    closed_own_in_prep_[h] = once;
+    covered_own_at_prep_end_[h] = cover;
+    own_gap_at_prep_end_[h] = std::isfinite(gap) ? gap : 0.0f;
+  }
+}
+
 bool HideAndSeek::opening_closed(int o) const {
   const drone::Opening& opening = arena_->openings()[o];
   if (!opening.open) return false;
@@ -752,6 +788,7 @@ void HideAndSeek::run_frame(StepView& io) {
       for (int o = 0; o < num_open && all; ++o) all = !owns(h, o, num_open) || closed[o];
       closed_own_at_prep_end_[h] = all;
     }
+    measure_own_openings(closed);
     // the fort the seekers will meet: what keeping the openings closed through the prep is for
     if (s.reward_preset == 0 && s.fort_reward != 0.0f && closed_at_prep_end_ > 0) {
       for (int h = 0; h < kMaxHiders; ++h)
@@ -1222,7 +1259,16 @@ EpisodeMetrics HideAndSeek::episode_metrics() const {
           {"hider0_closed_own", closed_own_at_prep_end_[0] ? 1.0f : 0.0f},
           {"hider1_closed_own", closed_own_at_prep_end_[1] ? 1.0f : 0.0f},
           {"hider0_idle", idle(0) ? 1.0f : 0.0f},
-          {"hider1_idle", idle(1) ? 1.0f : 0.0f}};
+          {"hider1_idle", idle(1) ? 1.0f : 0.0f},
+          // where each hider's building got to: its openings closed at some decision of the
+          // prep phase; covered over half by a prop, locked or not, at its end; and the
+          // distance then from its openings to the nearest prop (m; the largest of its openings)
+          {"hider0_closed_own_once", closed_own_in_prep_[0] ? 1.0f : 0.0f},
+          {"hider1_closed_own_once", closed_own_in_prep_[1] ? 1.0f : 0.0f},
+          {"hider0_covered_own", covered_own_at_prep_end_[0] ? 1.0f : 0.0f},
+          {"hider1_covered_own", covered_own_at_prep_end_[1] ? 1.0f : 0.0f},
+          {"hider0_own_gap", own_gap_at_prep_end_[0]},
+          {"hider1_own_gap", own_gap_at_prep_end_[1]}};
 }
 
 bool HideAndSeek::write_scripted_actions(int behavior, BehaviorView& view) {

@@ -262,6 +262,9 @@ class HideAndSeek : public Env {
   void run_frame(StepView& io);
   void tag(Agent& hider, StepView& io);
   void check_openings(StepView& io);
+  // at the end of the prep phase, how far each hider's building got (closed_own_in_prep_,
+  // covered_own_at_prep_end_, own_gap_at_prep_end_); `closed`: closed_openings() then
+  void measure_own_openings(const std::array<bool, drone::kNumOpenings>& closed);
   // close_reward_mode 1: the number of closed openings; 2: plus, per open opening not closed,
   // prop_shaping n(d) + reach_shaping n(e) + push_shaping n(b) + cover_shaping min(1, c / 0.5),
   // with d the distance from its centre to the nearest prop's, e from that prop's to the nearest
@@ -327,6 +330,12 @@ class HideAndSeek : public Env {
   // grabbed or locked a prop during the prep phase
   std::array<bool, kMaxHiders> closed_own_at_prep_end_{};
   std::array<bool, kMaxHiders> handled_in_prep_{};
+  // [hider slot], where its building got to: every opening it owns closed at some decision of
+  // the prep phase; covered over half by a prop, locked or not, when the prep phase ended; the
+  // farthest of its openings from the prop nearest to it then (m)
+  std::array<bool, kMaxHiders> closed_own_in_prep_{};
+  std::array<bool, kMaxHiders> covered_own_at_prep_end_{};
+  std::array<float, kMaxHiders> own_gap_at_prep_end_{};
   bool last_all_hidden_ = true;  // at the last test-phase frame (baker reward)
 
   // recording

@@ -1258,6 +1258,49 @@ TEST(HideAndSeekTest, PerHiderMetricsTellWhoClosedItsOwnDoorwayAndWhoIdled) {
   EXPECT_EQ(m.at("hider1_idle"), 0.0f);
 }
 
+// how far each hider's building got: at level 2 with the props in their doorways, hider 0 locks
+// its prop and unlocks it again (closed once, not at the end, still covering), hider 1 does
+// nothing (its prop stands in its doorway unlocked: covered, never closed); with the props at
+// their own places nothing covers a doorway and the nearest prop is at least 2.5 m away
+TEST(HideAndSeekTest, PerHiderMetricsTellHowFarEachHidersBuildingGot) {
+  Game g({{"level", 2.f}, {"prop_start_offset", 0.f}, {"episode_frames", 120.f},
+          {"prep_fraction", 0.5f}},
+         5);
+  stand_behind(*g.env.agent(HideAndSeek::kHider, 0).drone, g.env.props()[0],
+               g.env.arena().openings()[0].normal);
+  g.idle_step();
+  g.set_all(0.0f);
+  g.hiders().discrete_actions[1] = 1;  // hider 0 locks
+  g.harness.step();
+  ASSERT_TRUE(g.env.opening_closed(0));
+  g.set_all(0.0f);
+  g.hiders().discrete_actions[1] = 2;  // and unlocks
+  g.harness.step();
+  ASSERT_FALSE(g.env.opening_closed(0));
+  g.set_all(0.0f);
+  while (g.env.in_prep()) g.harness.step();
+  const auto m = g.env.episode_metrics();
+  EXPECT_EQ(m.at("hider0_closed_own_once"), 1.0f);
+  EXPECT_EQ(m.at("hider0_closed_own"), 0.0f);
+  EXPECT_EQ(m.at("hider0_covered_own"), 1.0f);
+  EXPECT_EQ(m.at("hider1_closed_own_once"), 0.0f);
+  EXPECT_EQ(m.at("hider1_covered_own"), 1.0f);
+  EXPECT_LT(m.at("hider0_own_gap"), 1.0f);
+  EXPECT_LT(m.at("hider1_own_gap"), 1.0f);
+
+  Game far({{"level", 2.f}, {"prop_start_offset", 1.f}, {"episode_frames", 120.f},
+            {"prep_fraction", 0.5f}},
+           5);
+  far.set_all(0.0f);
+  while (far.env.in_prep()) far.harness.step();
+  const auto f = far.env.episode_metrics();
+  for (const char* h : {"hider0", "hider1"}) {
+    EXPECT_EQ(f.at(std::string(h) + "_closed_own_once"), 0.0f) << h;
+    EXPECT_EQ(f.at(std::string(h) + "_covered_own"), 0.0f) << h;
+    EXPECT_GE(f.at(std::string(h) + "_own_gap"), 2.4f) << h;
+  }
+}
+
 TEST(HideAndSeekTest, ReachShapingPaysForAHiderComingNearTheProp) {
   Game g({{"level", 1.f},
           {"num_hiders", 1.f},
