@@ -18,12 +18,16 @@ namespace rlt {
 const char* const kLessonsHelp = R"(Usage: rlt lessons RUN_DIR [options]
 
 Prints, for each lesson of a curriculum a training run has entered, the step at which it entered
-it, the steps it spent there, how many separate stretches that took (a fallback adds one), and the
-mean of every episode metric of the env over the episodes played there (each summary's mean
-weighted by its episodes), as a Markdown table. Reads metrics/episodes.csv, whose rows are one per
-summary, so a lesson change is placed to within one summary and a lesson passed between two
-summaries has no row (the next lesson's row starts where it started); lesson names come from the
-run's configuration.yaml. Works while the run is still training.
+it, the steps it spent there, how many separate stretches that took (a fallback adds one), the
+measure its last completion passed the threshold at, and the mean of every episode metric of the
+env over the episodes played there (each summary's mean weighted by its episodes), as a Markdown
+table. The entries, steps, stretches and completions come from metrics/lessons.csv, one row per
+lesson change at the steps it happened; the metrics from metrics/episodes.csv, one row per
+summary, each counted in the lesson current when it was written (a lesson passed between two
+summaries has no metrics). Runs trained before lessons.csv was written have the summaries only:
+their changes are placed to within one summary, a lesson passed between two is missing and there
+is no completed-at column. Lesson names come from the run's configuration.yaml. Works while the
+run is still training.
 
 Options:
   --parameter NAME  the curriculum parameter (default: the run's only one; needed when it has
@@ -85,8 +89,10 @@ int run_lessons(const std::vector<std::string>& args) {
     }
     parameter = parameters[0];
   }
-  const LessonTable table = summarize_lessons(run, parameter, cl.value("--behavior"),
-                                              cl.values("--metric"), lesson_names(dir, parameter));
+  const LessonTable table =
+      summarize_lessons(run, parameter, cl.value("--behavior"), cl.values("--metric"),
+                        lesson_names(dir, parameter),
+                        read_lesson_changes(run_folder_at(dir).lesson_changes_path()));
   std::cout << (cl.has("--json") ? lesson_table_json(table) : lesson_table_markdown(table, decimals));
   return 0;
 }

@@ -27,7 +27,8 @@ training_status.json and <Behavior>.pt (TorchScript policies) at the end. Envs t
 strategies (HideAndSeek: running_and_chasing, shelter) get their episode metrics in
 metrics/episodes.csv and the step each strategy emerged at in training_status.json, which also
 records each start or resume's machine (CPU, BLAS kernels, LibTorch, rlt commit): a seed gives the
-same run only on one machine and build, and a resume on another says so. Prints a
+same run only on one machine and build, and a resume on another says so. Each curriculum change
+is a row of metrics/lessons.csv at the steps it happened (rlt lessons reads it). Prints a
 summary line per behavior every summary_freq steps, a progress bar with the time left (on a
 terminal), and at the end a table of steps, rewards, ELO, lessons and strategies.
 env_settings.stagger_steps S (default 0) spreads the env instances over their episodes: after

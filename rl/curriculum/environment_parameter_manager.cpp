@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -345,7 +346,8 @@ double EnvironmentParameterManager::smoothed_value(const std::string& parameter)
 }
 
 std::string EnvironmentParameterManager::fall_back_if_collapsed(const std::string& name,
-                                                                ParameterState& state) {
+                                                                ParameterState& state,
+                                                                double& measured) {
   const Lesson& lesson = settings_.at(name).curriculum[state.lesson];
   if (state.lesson == 0 || !lesson.completion_criteria) return "";
   const CompletionCriteria& criteria = *lesson.completion_criteria;
@@ -357,12 +359,13 @@ std::string EnvironmentParameterManager::fall_back_if_collapsed(const std::strin
   for (auto value = values.end() - length; value != values.end(); ++value) mean += *value;
   mean /= double(length);
   if (mean > *criteria.fallback_threshold) return "";
+  measured = mean;
   enter_lesson(name, state, state.lesson - 1);
-  const std::string measured =
+  const std::string what =
       criteria.measure == CompletionMeasure::kMetric ? criteria.metric : "reward";
   return "Curriculum " + name + ": back from lesson " + std::to_string(state.lesson + 1) + " (" +
          lesson.name + ") to " + std::to_string(state.lesson) + " (" +
-         settings_.at(name).curriculum[state.lesson].name + "): mean " + measured + " " +
+         settings_.at(name).curriculum[state.lesson].name + "): mean " + what + " " +
          number_text(mean) + " over the last " + std::to_string(length) +
          " episodes, at or below fallback_threshold " + number_text(*criteria.fallback_threshold);
 }
@@ -376,7 +379,9 @@ void EnvironmentParameterManager::clear_buffers() {
 bool EnvironmentParameterManager::completes(const CompletionCriteria& criteria,
                                             const std::optional<Staircase>& staircase,
                                             ParameterState& state,
-                                            const BehaviorProgress* progress) {
+                                            const BehaviorProgress* progress,
+                                            double& measured) {
+  measured = std::numeric_limits<double>::quiet_NaN();
   const bool metric = criteria.measure == CompletionMeasure::kMetric;
   const std::deque<double>& values =
       metric ? metrics_.at(metric_key(criteria.metric, criteria.behavior))
@@ -386,6 +391,7 @@ bool EnvironmentParameterManager::completes(const CompletionCriteria& criteria,
   if (criteria.measure == CompletionMeasure::kProgress) {
     const double fraction =
         progress->max_steps > 0 ? double(progress->steps) / double(progress->max_steps) : 0.0;
+    measured = fraction;
     return fraction > criteria.threshold;
   }
   if (values.empty()) return false;
@@ -396,6 +402,7 @@ bool EnvironmentParameterManager::completes(const CompletionCriteria& criteria,
     measure = 0.25 * state.smoothed + 0.75 * measure;
     state.smoothed = measure;
   }
+  measured = measure;
   return measure > criteria.threshold;
 }
 
@@ -411,12 +418,14 @@ LessonUpdate EnvironmentParameterManager::update(
     const bool measured_on_steps = criteria.measure != CompletionMeasure::kMetric;
     if (measured_on_steps && behavior == progress.end()) continue;  // no trainer yet
     const bool last = state.lesson + 1 >= int(lessons.size());      // the last lesson never ends
+    double measured = 0.0;
     if (!last && completes(criteria, lesson.staircase, state,
-                           measured_on_steps ? &behavior->second : nullptr)) {
+                           measured_on_steps ? &behavior->second : nullptr, measured)) {
       const auto missing =
           std::find_if(criteria.after_emerged.begin(), criteria.after_emerged.end(),
                        [&](const std::string& strategy) { return !emerged.count(strategy); });
       if (missing == criteria.after_emerged.end()) {
+        result.changes.push_back({name, state.lesson, state.lesson + 1, false, measured});
         enter_lesson(name, state, state.lesson + 1);
         result.changed = true;
         if (criteria.require_reset) result.require_reset = true;
@@ -430,8 +439,10 @@ LessonUpdate EnvironmentParameterManager::update(
                                " has emerged (after_emerged)");
       }
     }
-    const std::string sentence = fall_back_if_collapsed(name, state);
+    const int before = state.lesson;
+    const std::string sentence = fall_back_if_collapsed(name, state, measured);
     if (sentence.empty()) continue;
+    result.changes.push_back({name, before, state.lesson, true, measured});
     result.changed = true;
     result.fallbacks.push_back(sentence);
   }

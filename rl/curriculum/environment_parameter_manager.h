@@ -75,9 +75,21 @@ struct BehaviorProgress {
   int64_t max_steps = 1;  // its max_steps; progress = steps / max_steps
 };
 
+// One parameter's move from one lesson to another in update().
+struct LessonChange {
+  std::string parameter;
+  int from = 0;             // the lesson left
+  int to = 0;               // the lesson entered
+  bool fell_back = false;   // back by the fallback criterion; else the lesson was completed
+  // what decided it: the (smoothed) mean the threshold was passed at, the progress fraction, the
+  // fallback window's mean; NaN for a staircase that reached its end
+  double measure = 0.0;
+};
+
 // The outcome of one update().
 struct LessonUpdate {
   bool changed = false;        // at least one parameter moved to its next or previous lesson
+  std::vector<LessonChange> changes;  // each move, in the parameters' name order
   bool require_reset = false;  // ... and the completed lesson asked to reset the environments now
   // one sentence per parameter that fell back, naming it, the lessons and the measure
   std::vector<std::string> fallbacks;
@@ -184,12 +196,14 @@ class EnvironmentParameterManager {
   void move_staircases(bool metric, const std::string& key, double value);
   // Whether the lesson measured by `criteria` is complete (updating the smoothed value); a
   // staircase lesson is when its value is at the end. `progress` is the measured behavior's,
-  // null for a metric.
+  // null for a metric. `measured` gets the value compared with the threshold (NaN: none).
   bool completes(const CompletionCriteria& criteria, const std::optional<Staircase>& staircase,
-                 ParameterState& state, const BehaviorProgress* progress);
+                 ParameterState& state, const BehaviorProgress* progress, double& measured);
   // Goes back one lesson when the current lesson's fallback criterion says so; returns the
-  // sentence for LessonUpdate::fallbacks, or "" when the lesson stays.
-  std::string fall_back_if_collapsed(const std::string& name, ParameterState& state);
+  // sentence for LessonUpdate::fallbacks, or "" when the lesson stays; `measured` gets the
+  // fallback window's mean.
+  std::string fall_back_if_collapsed(const std::string& name, ParameterState& state,
+                                     double& measured);
   void clear_buffers();
 
   std::map<std::string, EnvironmentParameterSettings> settings_;

@@ -9,6 +9,9 @@
 //                          self-play ELO
 //   metrics/episodes.csv   one row per summary: steps, lessons and the means of the env's episode
 //                          metrics (strategy rates) over the episodes since the last row
+//   metrics/lessons.csv    one row per curriculum change, at the steps it happened: the
+//                          parameter, the lessons left and entered, completed or fell back, and
+//                          the measure that decided it
 //   <Behavior>.pt          the exported TorchScript policy
 #pragma once
 
@@ -61,6 +64,7 @@ class RunFolder {
     return file("metrics/" + behavior + ".csv");
   }
   std::string episode_metrics_path() const { return file("metrics/episodes.csv"); }
+  std::string lesson_changes_path() const { return file("metrics/lessons.csv"); }
   bool exists() const;
 
   // Creates the folder for a new run. Throws when it exists, unless `force` (then it is emptied).

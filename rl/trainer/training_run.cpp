@@ -305,6 +305,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
       for (auto& t : trainers_)
         truncate_metrics(folder_->metrics_path(t->behavior()), t->step(), kMetricsHeader);
       truncate_metrics(folder_->episode_metrics_path(), total_steps(), episode_metrics_header());
+      truncate_metrics(folder_->lesson_changes_path(), total_steps(), lesson_changes_header());
     }
     status_.finished = false;
   } else {
@@ -673,6 +674,7 @@ void TrainingRun::update_curriculum(const std::vector<FinishedEpisode>& finished
     if (e.step >= 0) emerged.insert(e.strategy);
   const LessonUpdate u = rank() == 0 ? parameters_.update(progress, emerged) : pending_follow_;
   pending_follow_ = LessonUpdate{};
+  log_lesson_changes(u.changes);
   for (const std::string& sentence : u.fallbacks) *log_ << sentence << "\n";
   for (const std::string& sentence : u.waits) *log_ << sentence << "\n";
   if (u.changed) {
@@ -1096,6 +1098,30 @@ std::string TrainingRun::episode_metrics_header() const {
   for (const auto& s : strategies_.strategies()) out << ",smoothed_" << s.metric << "_" << s.name;
   out << '\n';
   return out.str();
+}
+
+std::string TrainingRun::lesson_changes_header() const {
+  std::ostringstream out;
+  out << "total_steps,elapsed_s";
+  for (const auto& t : trainers_) out << ',' << t->behavior() << "_step";
+  out << ",parameter,from_lesson,to_lesson,change,measure\n";
+  return out.str();
+}
+
+void TrainingRun::log_lesson_changes(const std::vector<LessonChange>& changes) {
+  if (!folder_ || changes.empty()) return;
+  const std::string path = folder_->lesson_changes_path();
+  std::ostringstream out;
+  if (!fs::exists(path) || fs::file_size(path) == 0) out << lesson_changes_header();
+  for (const LessonChange& c : changes) {
+    out << total_steps() << ',' << elapsed();
+    for (const auto& t : trainers_) out << ',' << t->step();
+    out << ',' << c.parameter << ',' << c.from << ',' << c.to << ','
+        << (c.fell_back ? "fell_back" : "completed") << ',';
+    if (std::isfinite(c.measure)) out << c.measure;
+    out << '\n';
+  }
+  append_to_file(path, out.str());
 }
 
 void TrainingRun::log_episode_metrics() {

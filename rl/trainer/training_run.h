@@ -125,6 +125,9 @@ class TrainingRun {
   void log_episode_metrics();
   // metrics/episodes.csv's header (the env's episode metrics in name order)
   std::string episode_metrics_header() const;
+  // appends a row per change to metrics/lessons.csv, at the steps of the change
+  void log_lesson_changes(const std::vector<LessonChange>& changes);
+  std::string lesson_changes_header() const;
   int64_t total_steps() const;
   void show_progress(bool force);
   double elapsed() const;

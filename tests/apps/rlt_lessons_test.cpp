@@ -1,7 +1,7 @@
 // `rlt lessons`: the lesson table of a run's episodes.csv, summed by hand here for a self-play
 // run with a fallback, a row in which both behaviors learned and a metric cell left empty by a
-// resume; then the command as a process on a run folder, and its errors (a configuration that
-// cannot be read only leaves the lessons unnamed).
+// resume, and with its lessons.csv's exact changes; then the command as a process on a run
+// folder, and its errors (a configuration that cannot be read only leaves the lessons unnamed).
 #include "apps/lesson_table.h"
 
 #include <gtest/gtest.h>
@@ -65,6 +65,77 @@ TEST(LessonTable, TheHidersTurnsCountTheirStepsAndEpisodesLessonByLesson) {
   EXPECT_EQ(second.episodes, 2 + 2);  // rows 3 and 6, not row 4
   EXPECT_DOUBLE_EQ(second.means[0], (0.0 * 2 + 1.0 * 2) / 4);
   EXPECT_DOUBLE_EQ(second.means[1], (0.4 * 2 + 0.0 * 2) / 4);
+}
+
+// metrics/lessons.csv for self_play_run(): 0 -> 1 between rows 2 and 3, back to 0 between rows 4
+// and 5, then 1, 2 and back to 1 between rows 5 and 6 (lesson 2 has no row); one change of another
+// parameter, which does not count
+LessonChanges self_play_changes() {
+  LessonChanges c;
+  c.step_columns = {"total_steps", "Hider_step", "Seeker_step"};
+  const auto row = [](double total, double hider, const std::string& parameter, int from, int to,
+                      bool back, double measure) {
+    LessonChangeRow r;
+    r.steps = {total, hider, 100};
+    r.parameter = parameter;
+    r.from = from;
+    r.to = to;
+    r.fell_back = back;
+    r.measure = measure;
+    return r;
+  };
+  c.rows = {row(260, 160, "level", 0, 1, false, 0.55), row(300, 200, "speed", 0, 1, false, 0.9),
+            row(480, 330, "level", 1, 0, true, 0.01),  row(520, 370, "level", 0, 1, false, 0.6),
+            row(560, 410, "level", 1, 2, false, 0.8),  row(590, 440, "level", 2, 1, true, 0.0)};
+  return c;
+}
+
+TEST(LessonTable, TheChangesPlaceEachEntryExactlyAndKeepALessonPassedBetweenSummaries) {
+  const auto table = summarize_lessons(self_play_run(), "level", "Hider", {"fort_rate"},
+                                       {"first", "second", "third"}, self_play_changes());
+  EXPECT_TRUE(table.exact);
+  ASSERT_EQ(table.lessons.size(), 3u);
+  const auto& first = table.lessons[0];
+  EXPECT_EQ(first.entered, 0);
+  EXPECT_EQ(first.steps, 160 + (370 - 330));
+  EXPECT_EQ(first.visits, 2);
+  EXPECT_DOUBLE_EQ(first.completed_at, 0.6);  // its last completion
+  EXPECT_EQ(first.episodes, 4);               // the rows' as before
+  EXPECT_DOUBLE_EQ(first.means[0], 0.75);
+  const auto& second = table.lessons[1];
+  EXPECT_EQ(second.entered, 160);
+  EXPECT_EQ(second.steps, (330 - 160) + (410 - 370) + (450 - 440));  // to the last row's 450
+  EXPECT_EQ(second.visits, 3);
+  EXPECT_DOUBLE_EQ(second.completed_at, 0.8);
+  const auto& third = table.lessons[2];
+  EXPECT_EQ(third.lesson, 2);
+  EXPECT_EQ(third.name, "third");
+  EXPECT_EQ(third.entered, 410);
+  EXPECT_EQ(third.steps, 30);
+  EXPECT_EQ(third.visits, 1);
+  EXPECT_TRUE(std::isnan(third.completed_at));
+  EXPECT_EQ(third.episodes, 0);
+  EXPECT_TRUE(std::isnan(third.means[0]));
+  const std::string markdown = lesson_table_markdown(table, 2);
+  EXPECT_NE(markdown.find("| episodes | completed at | fort_rate |"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("| 2 | third | 410 | 30 | 1 | 0 | - | - |"), std::string::npos)
+      << markdown;
+  // on total steps the same changes, the last stretch running to the last row's 600
+  const auto total = summarize_lessons(self_play_run(), "level", "", {"fort_rate"}, {},
+                                       self_play_changes());
+  EXPECT_EQ(total.lessons[1].steps, (480 - 260) + (560 - 520) + (600 - 590));
+  // a counter the file does not have is an error naming what it has
+  LessonChanges hiders_only = self_play_changes();
+  hiders_only.step_columns = {"total_steps", "Hider_step", "Runner_step"};
+  try {
+    summarize_lessons(self_play_run(), "level", "Seeker", {}, {}, hiders_only);
+    ADD_FAILURE() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("'Seeker_step' is not in metrics/lessons.csv (it has: "
+                                         "total_steps, Hider_step, Runner_step)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(LessonTable, WithoutABehaviorEveryRowCountsOnTotalSteps) {
@@ -169,9 +240,36 @@ TEST_F(RltLessonsTest, PrintsTheTableWithTheConfigurationsLessonNames) {
   const auto json = rlt(dir.string() + " --behavior Hider --metric fort_rate --json");
   ASSERT_EQ(json.exit_code, 0) << json.err;
   EXPECT_NE(json.out.find("{\"lesson\":1,\"name\":\"level1_props_010\",\"entered\":100,"
-                          "\"steps\":250,\"visits\":2,\"episodes\":4,\"metrics\":{\"fort_rate\":0.5}}"),
+                          "\"steps\":250,\"visits\":2,\"episodes\":4,\"completed_at\":null,"
+                          "\"metrics\":{\"fort_rate\":0.5}}"),
             std::string::npos)
       << json.out;
+}
+
+TEST_F(RltLessonsTest, ARunWithLessonChangesGetsThemExactly) {
+  const auto dir = make_run();
+  std::ofstream(dir / "metrics/lessons.csv")
+      << "total_steps,elapsed_s,Hider_step,Seeker_step,parameter,from_lesson,to_lesson,change,"
+         "measure\n260,2.5,160,100,level,0,1,completed,0.55\n"
+         "480,4.5,330,150,level,1,0,fell_back,0.01\n520,5,370,150,level,0,1,completed,0.6\n"
+         "560,5.5,410,150,level,1,2,completed,0.8\n590,5.9,440,150,level,2,1,fell_back,0\n"
+         "599,6,4";  // a write cut off: left out
+  auto r = rlt(dir.string() + " --behavior Hider --metric fort_rate");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("| 0 | level1_props_000 | 0 | 200 | 2 | 4 | 0.60 | 0.75 |"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("| 2 | level1_props_020 | 410 | 30 | 1 | 0 | - | - |"), std::string::npos)
+      << r.out;
+  // a malformed row is an error naming the file and the line
+  std::ofstream(dir / "metrics/lessons.csv")
+      << "total_steps,elapsed_s,Hider_step,Seeker_step,parameter,from_lesson,to_lesson,change,"
+         "measure\n260,2.5,160,100,level,0,1,passed,0.55\n";
+  r = rlt(dir.string() + " --behavior Hider");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("lessons.csv:2: change 'passed' is neither completed nor fell_back"),
+            std::string::npos)
+      << r.err;
 }
 
 TEST_F(RltLessonsTest, BadInputIsAClearError) {

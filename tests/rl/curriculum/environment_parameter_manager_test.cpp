@@ -649,17 +649,30 @@ void add_forts(EnvironmentParameterManager* manager, const std::vector<float>& r
 TEST(EnvironmentParameterManagerTest, ACollapsedLessonFallsBackOneLesson) {
   EnvironmentParameterManager manager = falling_lessons();
   add_forts(&manager, {1.f, 1.f});
-  ASSERT_TRUE(manager.update({}).changed);  // Near -> Mid
+  LessonUpdate update = manager.update({});  // Near -> Mid
+  ASSERT_TRUE(update.changed);
+  ASSERT_EQ(update.changes.size(), 1u);
+  EXPECT_EQ(update.changes[0].parameter, "offset");
+  EXPECT_EQ(update.changes[0].from, 0);
+  EXPECT_EQ(update.changes[0].to, 1);
+  EXPECT_FALSE(update.changes[0].fell_back);
+  EXPECT_DOUBLE_EQ(update.changes[0].measure, 1.0);  // the mean that passed the threshold
   // two bad episodes are not yet the three the fallback judges; the completion needs > 0.5
   add_forts(&manager, {0.f, 0.f});
-  LessonUpdate update = manager.update({});
+  update = manager.update({});
   EXPECT_FALSE(update.changed);
   EXPECT_TRUE(update.fallbacks.empty());
+  EXPECT_TRUE(update.changes.empty());
   // the third: mean 0 over the last 3 <= 0.25
   add_forts(&manager, {0.f});
   update = manager.update({});
   EXPECT_TRUE(update.changed);
   EXPECT_FALSE(update.require_reset);
+  ASSERT_EQ(update.changes.size(), 1u);
+  EXPECT_EQ(update.changes[0].from, 1);
+  EXPECT_EQ(update.changes[0].to, 0);
+  EXPECT_TRUE(update.changes[0].fell_back);
+  EXPECT_DOUBLE_EQ(update.changes[0].measure, 0.0);
   ASSERT_EQ(update.fallbacks.size(), 1u);
   EXPECT_NE(update.fallbacks[0].find("offset: back from lesson 1 (Mid) to 0 (Near): mean "
                                      "fort_rate 0 over the last 3 episodes"),

@@ -18,6 +18,7 @@
 #include "env/register_builtin_envs.h"
 #include "rl/config/config_parser.h"
 #include "rl/core/bad_numbers.h"
+#include "rl/core/csv_line.h"
 #include "rl/core/machine_info.h"
 #include "rl/env_api/env_registry.h"
 #include "rl/selfplay/self_play.h"
@@ -435,6 +436,22 @@ TEST_F(TrainingRunTest, CurriculumCountsTheLearningBehaviorsStepsAndSurvivesResu
   EXPECT_EQ(RunFolder(dir_.string(), "cur_split").read_status().lessons.at("level"), 1);
   auto a = parameters(whole), b = parameters(resumed);
   for (size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(torch::equal(a[i], b[i])) << i;
+  // the one lesson change is logged once, at the same steps (the time aside)
+  const auto change = [&](const std::string& run_id) {
+    std::istringstream lines(file_contents(dir_ / run_id / "metrics" / "lessons.csv"));
+    std::vector<std::vector<std::string>> rows;
+    for (std::string line; std::getline(lines, line);) {
+      rows.push_back(split_csv_line(line));
+      rows.back().erase(rows.back().begin() + 1);  // elapsed_s
+    }
+    return rows;
+  };
+  const auto logged = change("cur_whole");
+  ASSERT_EQ(logged.size(), 2u);
+  // the Seeker's progress fraction, just past the threshold
+  EXPECT_GT(std::stod(logged[1].back()), 0.5);
+  EXPECT_LT(std::stod(logged[1].back()), 0.6);
+  EXPECT_EQ(change("cur_split"), logged);
 }
 
 // metrics/episodes.csv of a run begun by a build whose env had fewer metrics: resumed, the file
@@ -669,6 +686,32 @@ TEST_F(TrainingRunTest, ACollapsedLessonFallsBackAndTheLogSaysSo) {
             std::string::npos)
       << log_.str();
   EXPECT_EQ(run.parameters().furthest_lessons().at("x"), 1);
+  // metrics/lessons.csv has each change at its steps: the control's one completion, and here A's
+  // completion, B's fallback at the mean 1, and so on, the steps never going back
+  const auto changes = [&](const std::string& run_id) {
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream lines(file_contents(dir_ / run_id / "metrics" / "lessons.csv"));
+    for (std::string line; std::getline(lines, line);) rows.push_back(split_csv_line(line));
+    return rows;
+  };
+  const auto plain_rows = changes("echo_plain");
+  ASSERT_EQ(plain_rows.size(), 2u);
+  const std::vector<std::string> header = plain_rows[0];
+  ASSERT_GE(header.size(), 8u);
+  EXPECT_EQ(header[0], "total_steps");
+  EXPECT_EQ(header[1], "elapsed_s");
+  const std::vector<std::string> tail(header.end() - 5, header.end());
+  EXPECT_EQ(tail, (std::vector<std::string>{"parameter", "from_lesson", "to_lesson", "change",
+                                            "measure"}));
+  const size_t p = header.size() - 5;
+  EXPECT_EQ(std::vector<std::string>(plain_rows[1].begin() + p, plain_rows[1].end() - 1),
+            (std::vector<std::string>{"x", "0", "1", "completed"}));
+  const auto rows = changes("echo_fallback");
+  ASSERT_GE(rows.size(), 3u);
+  EXPECT_EQ(std::vector<std::string>(rows[2].begin() + p, rows[2].end()),
+            (std::vector<std::string>{"x", "1", "0", "fell_back", "1"}));
+  for (size_t r = 2; r < rows.size(); ++r)
+    EXPECT_GE(std::stoll(rows[r][0]), std::stoll(rows[r - 1][0])) << r;
 }
 
 // StrategyEchoEnv's lessons A (x = 0), B (x = 1) and C (x = 2) as in echo_curriculum_config,
