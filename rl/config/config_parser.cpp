@@ -557,6 +557,10 @@ void Parser::parse_hyperparameters(const Val& value, Hyperparameters* hyper,
           {"beta_schedule", [&](const Val& v) { hyper->beta_schedule = read_schedule(v); }},
           {"discrete_beta",
            [&](const Val& v) { hyper->discrete_beta = read_float(v, kNonNegativeReal); }},
+          {"discrete_beta_end",
+           [&](const Val& v) { hyper->discrete_beta_end = read_float(v, kNonNegativeReal); }},
+          {"discrete_beta_steps",
+           [&](const Val& v) { hyper->discrete_beta_steps = read_int(v, kPositiveInt64); }},
           {"epsilon",
            [&](const Val& v) {
              hyper->epsilon = read_float(v, RealRange{0.0, true, 1.0, true});
@@ -697,6 +701,11 @@ BehaviorConfig Parser::finish_behavior(const BehaviorDraft& draft, const Val& si
   }
   if (!hyper.beta_schedule) hyper.beta_schedule = hyper.learning_rate_schedule;
   if (!hyper.discrete_beta) hyper.discrete_beta = hyper.beta;
+  if (hyper.discrete_beta_end.has_value() != (hyper.discrete_beta_steps > 0))
+    fail(size_location, std::string("hyperparameters: discrete_beta_end and discrete_beta_steps ") +
+                            "go together (the bonus moves to the one over the other); only " +
+                            (hyper.discrete_beta_end ? "discrete_beta_end" : "discrete_beta_steps") +
+                            " is given");
   if (!hyper.epsilon_schedule) hyper.epsilon_schedule = hyper.learning_rate_schedule;
   if (draft.even_checkpoints) {
     config.checkpoint_interval = std::max<int64_t>(1, config.max_steps / config.keep_checkpoints);
@@ -1326,6 +1335,11 @@ void emit_behavior(YAML::Emitter& out, const BehaviorConfig& config) {
       << schedule_name(hyper.beta_schedule.value_or(hyper.learning_rate_schedule));
   out << YAML::Key << "discrete_beta" << YAML::Value;
   emit_float(out, hyper.discrete_beta.value_or(hyper.beta));
+  if (hyper.discrete_beta_steps > 0 && hyper.discrete_beta_end) {
+    out << YAML::Key << "discrete_beta_end" << YAML::Value;
+    emit_float(out, *hyper.discrete_beta_end);
+    out << YAML::Key << "discrete_beta_steps" << YAML::Value << hyper.discrete_beta_steps;
+  }
   out << YAML::Key << "epsilon" << YAML::Value;
   emit_float(out, hyper.epsilon);
   out << YAML::Key << "epsilon_schedule" << YAML::Value

@@ -27,6 +27,11 @@ struct Hyperparameters {
   std::optional<Schedule> beta_schedule;     // default: learning_rate_schedule; linear -> 1e-5
   std::optional<float> discrete_beta;        // extension: the discrete branches' entropy bonus
                                              // (default: beta); decays as beta does
+  // extension: with discrete_beta_steps > 0, the branches' bonus moves linearly from
+  // discrete_beta at step 0 to discrete_beta_end at that step of the behavior and stays there
+  // (beta_schedule's decay then applies to it as to beta)
+  std::optional<float> discrete_beta_end;
+  int64_t discrete_beta_steps = 0;
   float epsilon = 0.2f;            // PPO clip range of ratio and value
   std::optional<Schedule> epsilon_schedule;  // default: learning_rate_schedule; linear -> 0.1
   float lambd = 0.95f;             // GAE lambda

@@ -216,8 +216,14 @@ void OnPolicyTrainer::fill_schedules(UpdateStats& stats) const {
   stats.learning_rate = decayed(hp.learning_rate, 1e-10f, hp.learning_rate_schedule);
   stats.epsilon = decayed(hp.epsilon, 0.1f, hp.epsilon_schedule.value_or(hp.learning_rate_schedule));
   stats.beta = decayed(hp.beta, 1e-5f, hp.beta_schedule.value_or(hp.learning_rate_schedule));
-  stats.discrete_beta = decayed(hp.discrete_beta.value_or(hp.beta), 1e-5f,
-                                hp.beta_schedule.value_or(hp.learning_rate_schedule));
+  // the branches' own bonus first moves to discrete_beta_end over discrete_beta_steps
+  float discrete = hp.discrete_beta.value_or(hp.beta);
+  if (hp.discrete_beta_steps > 0 && hp.discrete_beta_end) {
+    const double frac = std::min(1.0, double(step_) / double(hp.discrete_beta_steps));
+    discrete = float(discrete + (*hp.discrete_beta_end - discrete) * frac);
+  }
+  stats.discrete_beta =
+      decayed(discrete, 1e-5f, hp.beta_schedule.value_or(hp.learning_rate_schedule));
 }
 
 double OnPolicyTrainer::actor_macs() const {

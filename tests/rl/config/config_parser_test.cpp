@@ -374,6 +374,24 @@ TEST(ConfigParserTest, ReadsExtensionsAndOptionalStrings) {
   EXPECT_EQ(cartpole.hyperparameters.discrete_beta, cartpole.hyperparameters.beta);
   const RunConfig own = parse(cartpole_with("    hyperparameters:\n      discrete_beta: 0.05\n"));
   EXPECT_EQ(own.behaviors.at("CartPole").hyperparameters.discrete_beta, 0.05f);
+  EXPECT_EQ(own.behaviors.at("CartPole").hyperparameters.discrete_beta_steps, 0);
+  // ... and moves to discrete_beta_end over discrete_beta_steps, the two together
+  const RunConfig moving = parse(cartpole_with(
+      "    hyperparameters:\n      discrete_beta: 0.05\n      discrete_beta_end: 0.005\n"
+      "      discrete_beta_steps: 1600000\n"));
+  const Hyperparameters& m = moving.behaviors.at("CartPole").hyperparameters;
+  EXPECT_EQ(m.discrete_beta_end, 0.005f);
+  EXPECT_EQ(m.discrete_beta_steps, 1600000);
+  try {
+    parse(cartpole_with("    hyperparameters:\n      discrete_beta_steps: 1000\n"));
+    ADD_FAILURE() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("discrete_beta_end and discrete_beta_steps go together"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("only discrete_beta_steps is given"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(ConfigParserTest, EvenCheckpointsSpreadsCheckpointsOverMaxSteps) {
@@ -1246,6 +1264,9 @@ TEST(ConfigParserErrorTest, OutOfRangeValues) {
       {h + "num_epoch: 0\n", hp + "num_epoch", "expected a positive integer, got '0'"},
       {h + "max_grad_norm: -1\n", hp + "max_grad_norm", "expected a number >= 0, got '-1'"},
       {h + "discrete_beta: -0.5\n", hp + "discrete_beta", "expected a number >= 0, got '-0.5'"},
+      {h + "discrete_beta_end: -1\n", hp + "discrete_beta_end", "expected a number >= 0, got '-1'"},
+      {h + "discrete_beta_steps: 0\n", hp + "discrete_beta_steps",
+       "expected a positive integer, got '0'"},
       {h + "learning_rate: 1e50\n", hp + "learning_rate", "out of the range of a 32-bit float"},
       {n + "hidden_units: 0\n", np + "hidden_units", "expected a positive integer, got '0'"},
       {n + "num_layers: 0\n", np + "num_layers", "expected a positive integer, got '0'"},

@@ -1190,15 +1190,21 @@ TEST_F(TrainingRunTest, InitializeFromStartsWithTheOtherRunsWeightsAndFreshCount
 
 // hyperparameters.discrete_beta sets the discrete branches' entropy bonus on its own: in
 // MaskedChoice (two branches, a reward for the right option) the policy sharpens with no bonus
-// and stays near uniform under a large one; the same bonus as beta, spelled out, trains exactly
-// as leaving it out
+// and stays near uniform under a large one, and sharpens again when the large one moves to 0 over
+// the run's first tenth (discrete_beta_end, discrete_beta_steps); the same bonus as beta, spelled
+// out, trains exactly as leaving it out
 TEST_F(TrainingRunTest, TheBranchesOwnEntropyBonusReachesTheLearner) {
-  auto entropy_of = [&](const std::string& run_id, const std::string& discrete_beta) {
+  auto entropy_of = [&](const std::string& run_id, const std::string& discrete_beta,
+                        float end = -1.0f) {
     RunConfig config = small_config("MaskedChoice", "MaskedChoice", 20000, 10000);
     Hyperparameters& hyper = config.behaviors.at("MaskedChoice").hyperparameters;
     hyper.learning_rate = 3e-3f;
     hyper.discrete_beta.reset();  // as a config that leaves it out, before its parser fills in beta
     if (!discrete_beta.empty()) hyper.discrete_beta = std::stof(discrete_beta);
+    if (end >= 0.0f) {  // moving to `end` over the first tenth of the run
+      hyper.discrete_beta_end = end;
+      hyper.discrete_beta_steps = 2000;
+    }
     TrainingRun run(config, options(run_id));
     run.train();
     // the entropy column of the last update's row
@@ -1210,6 +1216,9 @@ TEST_F(TrainingRunTest, TheBranchesOwnEntropyBonusReachesTheLearner) {
   };
   const double none = entropy_of("none", "0"), large = entropy_of("large", "1.0");
   EXPECT_GT(large, none + 0.15);  // measured: 1.17 against 0.86
+  // the large bonus moved to 0 over the first 2,000 steps sharpens as no bonus does
+  const double faded = entropy_of("faded", "1.0", 0.0f);
+  EXPECT_LT(faded, large - 0.15) << "none " << none;
   EXPECT_EQ(entropy_of("default", ""), entropy_of("spelled_out", "0.005"));  // beta's own value
   EXPECT_EQ(metrics_without_time((dir_ / "default/metrics/MaskedChoice.csv").string()),
             metrics_without_time((dir_ / "spelled_out/metrics/MaskedChoice.csv").string()));
