@@ -697,15 +697,6 @@ void HideAndSeek::measure_own_openings(const std::array<bool, kNumOpenings>& clo
       nearest = std::min(nearest, ((*props_)[i].position() - arena_->openings()[o].centre).length());
     return nearest;
   };
-  const auto covered = [&](int o) {
-    if (closed[o]) return true;
-    for (int i = 0; i < props_->size(); ++i) {
-      const drone::Prop& prop = (*props_)[i];
-      if ((prop.position() - arena_->openings()[o].centre).length() > kCoverReach) continue;
-      if (drone::covered_fraction(arena_->openings()[o], *prop.body) > kClosedCover) return true;
-    }
-    return false;
-  };
   for (int h = 0; h < kMaxHiders; ++h) {
     if (!agent(kHider, h).present) continue;
     bool once = true, cover = true;
@@ -713,7 +704,7 @@ void HideAndSeek::measure_own_openings(const std::array<bool, kNumOpenings>& clo
     for (int o = 0; o < num_open; ++o) {
       if (!owns(h, o, num_open)) continue;
       once = once && (ever_closed_[o] || closed[o]);
-      cover = cover && covered(o);
+      cover = cover && (closed[o] || opening_covered(o, false));
       gap = std::max(gap, nearest_prop(o));
     }
     closed_own_in_prep_[h] = once;
@@ -722,12 +713,14 @@ void HideAndSeek::measure_own_openings(const std::array<bool, kNumOpenings>& clo
   }
 }
 
-bool HideAndSeek::opening_closed(int o) const {
+bool HideAndSeek::opening_closed(int o) const { return opening_covered(o, true); }
+
+bool HideAndSeek::opening_covered(int o, bool locked_only) const {
   const drone::Opening& opening = arena_->openings()[o];
   if (!opening.open) return false;
   for (int i = 0; i < props_->size(); ++i) {
     const drone::Prop& prop = (*props_)[i];
-    if (!prop.locked()) continue;
+    if (locked_only && !prop.locked()) continue;
     const btVector3 d = prop.position() - opening.centre;
     if (d.length() > kCoverReach) continue;  // too far to cover it
     if (drone::covered_fraction(opening, *prop.body) > kClosedCover) return true;

@@ -240,6 +240,9 @@ class HideAndSeek : public Env {
   // whether open opening `o` is closed by a locked prop now, that for every opening, and how
   // many open ones are
   bool opening_closed(int o) const;
+  // whether over half of open opening `o` is covered by a prop within reach of it, a locked one
+  // with `locked_only` (what opening_closed asks), else any
+  bool opening_covered(int o, bool locked_only) const;
   std::array<bool, drone::kNumOpenings> closed_openings() const;
   int count_closed() const;
   // true when some seeker in the game sees hider `h` now

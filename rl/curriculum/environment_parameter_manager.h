@@ -57,6 +57,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <map>
 #include <optional>
 #include <random>
@@ -83,7 +84,7 @@ struct LessonChange {
   bool fell_back = false;   // back by the fallback criterion; else the lesson was completed
   // what decided it: the (smoothed) mean the threshold was passed at, the progress fraction, the
   // fallback window's mean; NaN for a staircase that reached its end
-  double measure = 0.0;
+  double measure = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The outcome of one update().
