@@ -17,6 +17,10 @@ event of each episode and prints, averaged over the episodes:
   end): how many ended in the frame they began (grabbed and locked in one decision, so the
   prop was never carried), how many lasted LONG_HOLD seconds or more, and how far those took a
   paired prop towards its opening (median);
+- what became of the locks made away from every open opening: unlocked again by the drone that
+  locked them within REGRIP seconds (a re-grip: with a latched grab, the lock is a hider's only
+  way to let go), unlocked by another drone, unlocked later, or still locked at the prep phase's
+  end;
 - per paired prop, by its place among the props (with prop_pairing prop k is the k-th hider's
   own), the share of episodes in which it ended the prep phase locked near its opening;
 - what the closed openings bought in the test phase: by how many openings were closed at the end
@@ -31,6 +35,7 @@ from collections import Counter
 NEAR_OPENING = 0.8  # m: a lock this close to an open opening's centre counts as "at a doorway"
 STILL = 0.002  # m: a prop that moved less than this in a frame did not move
 LONG_HOLD = 0.5  # s: a hold at least this long carried the prop somewhere
+REGRIP = 0.5  # s: a lock undone by its own drone within this long was a re-grip
 
 
 def horizontal(a, b):
@@ -82,6 +87,7 @@ def main(path):
     by_closed = {}  # openings closed at the end of the prep phase -> [(tagged, hidden fraction)]
     locked_at_opening = Counter()  # k -> episodes in which paired prop k ended locked near its opening
     holds = []  # (frames held, metres gained towards its opening or None for an unpaired prop)
+    away_locks = Counter()  # what became of a lock away from every open opening -> count
     for episode in episodes:
         # pose row of each dynamic body, and of each prop's
         body_row = {body: row for row, body in enumerate(episode["dynamic_bodies"])}
@@ -96,6 +102,8 @@ def main(path):
         holder = {}  # prop -> pose row of the drone that holds it
         travelled = Counter()  # prop -> metres
         hold_start = {}  # prop -> (frame index, pose) of the grab that holds it now
+        locked_away = {}  # prop -> (frame index, locking body) of its lock away from every opening
+        regrip_frames = REGRIP * episode.get("frame_rate", 50)
 
         def end_hold(prop, index, pose):
             start, start_pose = hold_start.pop(prop)
@@ -130,6 +138,17 @@ def main(path):
                     at = poses[rows[prop]]
                     if any(horizontal(at, o["centre"]) < NEAR_OPENING for o in openings):
                         locks_near += 1
+                    else:
+                        locked_away[prop] = (index, e["body"])
+                elif kind == "unlock" and prop in locked_away:
+                    locked_at, locker = locked_away.pop(prop)
+                    if e["body"] != locker:
+                        away_locks["unlocked by another drone"] += 1
+                    elif index - locked_at <= regrip_frames:
+                        away_locks["re-gripped"] += 1
+                    else:
+                        away_locks["unlocked later"] += 1
+        away_locks["still locked"] += len(locked_away)
         for prop in list(hold_start):
             end_hold(prop, len(frames) - 1, frames[-1]["poses"][rows[prop]])
         metrics = episode["metrics"]
@@ -145,6 +164,14 @@ def main(path):
     print(f"{n} episodes, per episode in the prep phase:")
     print("  " + ", ".join(f"{k} {events[k] / n:.1f}" for k in ("grab", "lock", "unlock", "release")))
     print(f"  locks within {NEAR_OPENING} m of an open opening: {locks_near} of {events['lock']}")
+    away = sum(away_locks.values())
+    if away:
+        print(
+            f"  of the {away} locks away from the openings: re-gripped (unlocked by the same drone within "
+            f"{REGRIP} s) {away_locks['re-gripped'] / away:.2f}, unlocked by another drone "
+            f"{away_locks['unlocked by another drone'] / away:.2f}, unlocked later "
+            f"{away_locks['unlocked later'] / away:.2f}, still locked {away_locks['still locked'] / away:.2f}"
+        )
     total = sum(frames_in.values()) or 1
     for s in ("held", "free", "locked"):
         print(f"  {s}: {frames_in[s] / total:.2f} of the prop-frames, moved {metres[s] / n:.2f} m")
