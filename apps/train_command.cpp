@@ -59,6 +59,9 @@ Options:
   --max-steps NAME=N     steps of behavior NAME alone (repeat; over a plain --max-steps N), e.g.
                          --resume --max-steps Hider=3000000 lengthens a run without the seekers
                          learning again
+  --until-emerged NAME   stop, as at max_steps (a last checkpoint, the policies exported), once
+                         the env's strategy NAME has emerged (repeat: once every one has), e.g.
+                         --until-emerged shelter; not kept by --resume, not with --nproc
   --param NAME=VALUE     set an env parameter over env_settings.params (repeat; not one that
                          environment_parameters sets, itself or in a lesson's
                          other_parameters, nor one in a behavior's
@@ -108,7 +111,7 @@ int run_train(const std::vector<std::string>& args) {
   const std::set<std::string> options = {"--run-id",  "--results-dir", "--initialize-from",
                                          "--num-envs", "--seed",       "--max-steps",
                                          "--threads",  "--param",      "--nproc",
-                                         "--dist-timeout"};
+                                         "--dist-timeout", "--until-emerged"};
   std::set<std::string> all_switches = switches;
   all_switches.insert("--print-config");
   CommandLine cl(args, all_switches, options);
@@ -138,6 +141,11 @@ int run_train(const std::vector<std::string>& args) {
   opt.force = cl.has("--force");
   if (opt.resume && opt.force) throw UsageError("--resume and --force exclude each other");
   opt.initialize_from = cl.value("--initialize-from");
+  for (const std::string& name : cl.values("--until-emerged")) {
+    if (std::find(opt.until_emerged.begin(), opt.until_emerged.end(), name) != opt.until_emerged.end())
+      throw UsageError("--until-emerged " + name + " given twice");
+    opt.until_emerged.push_back(name);
+  }
   opt.num_envs = int(cl.integer("--num-envs", 0, 1));
   opt.seed = cl.integer("--seed", -1, 0);
   read_max_steps(cl, opt);

@@ -229,6 +229,7 @@ TrainingRun::TrainingRun(RunConfig config, TrainOptions options)
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(config_.source_file + ": " + e.what());
   }
+  check_until_emerged();
   const EnvSpec& spec = env_->spec();
   std::string known_behaviors;
   for (const auto& bs : spec.behaviors)
@@ -437,7 +438,8 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
   auto seconds_since = [](Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
   };
-  while (!all_finished()) {
+  auto done = [&] { return all_finished() || awaited_strategies_emerged(); };
+  while (!done()) {
     // act, step, learn
     auto t0 = Clock::now();
     if (self_play_->enabled()) {
@@ -505,12 +507,17 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
     // checkpoint boundary when any behavior crossed its interval
     bool due = false;
     for (int b = 0; b < nb; ++b) due |= trainers_[b]->step() >= next_checkpoint_[b];
-    if (due && !all_finished()) {
+    if (due && !done()) {
       boundary(false);
       if (stop_after_boundaries > 0 && ++boundaries >= stop_after_boundaries) break;
     }
   }
-  if (all_finished()) {
+  if (done()) {
+    if (!all_finished()) {
+      std::string names;
+      for (const std::string& n : options_.until_emerged) names += (names.empty() ? "" : ", ") + n;
+      *log_ << "Stopping: " << names << " emerged (--until-emerged)." << std::endl;
+    }
     // a last summary of what happened since the previous one
     for (int b = 0; b < nb; ++b)
       if (trainers_[b]->step() > summarized_step_[b]) summarize(b);
@@ -1056,6 +1063,31 @@ int64_t TrainingRun::total_steps() const {
   int64_t n = 0;
   for (const auto& t : trainers_) n += t->step();
   return n;
+}
+
+void TrainingRun::check_until_emerged() const {
+  if (options_.until_emerged.empty()) return;
+  if (distributed())
+    throw std::invalid_argument(
+        "--until-emerged: not with data-parallel training (each rank dates strategies from its "
+        "own episodes); stop the run with --max-steps");
+  std::string known;
+  for (const StrategySpec& s : env_->spec().strategies) known += (known.empty() ? "" : ", ") + s.name;
+  for (const std::string& name : options_.until_emerged) {
+    const auto& all = env_->spec().strategies;
+    if (std::none_of(all.begin(), all.end(), [&](const StrategySpec& s) { return s.name == name; }))
+      throw std::invalid_argument("--until-emerged " + name + ": environment " + env_->spec().name +
+                                  " declares no strategy '" + name + "' (it declares: " +
+                                  (known.empty() ? "none" : known) + ")");
+  }
+}
+
+bool TrainingRun::awaited_strategies_emerged() const {
+  if (options_.until_emerged.empty()) return false;
+  for (const std::string& name : options_.until_emerged)
+    for (const Emergence& e : strategies_.emergences())
+      if (e.strategy == name && e.step < 0) return false;
+  return true;
 }
 
 void TrainingRun::track_episodes(const std::vector<FinishedEpisode>& finished) {

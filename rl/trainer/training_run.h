@@ -39,6 +39,9 @@ struct TrainOptions {
   // environment does not have is an error
   std::map<std::string, int64_t> behavior_max_steps;
   Parameters params;              // env parameters over env_settings.params (not curriculum ones)
+  // Strategies (names the env declares) after whose emergence training stops, as at max_steps:
+  // once every one of them has emerged. Not kept by a resume; not with a communicator.
+  std::vector<std::string> until_emerged;
   int threads = 0;                // env and LibTorch threads (0 = number of cores)
   bool write_results = true;      // false: no run folder (benchmarks)
   std::ostream* log = nullptr;    // summary lines (null = std::cout)
@@ -89,6 +92,10 @@ class TrainingRun {
 
  private:
   void boundary(bool final);
+  // TrainOptions::until_emerged: names the env declares, and no communicator (throws otherwise)
+  void check_until_emerged() const;
+  // every strategy of TrainOptions::until_emerged has emerged (false when there are none)
+  bool awaited_strategies_emerged() const;
   // a fresh self-play controller over the trainers (its pool starts from their current weights)
   void reset_self_play();
   // draws every instance's parameters for its next reset

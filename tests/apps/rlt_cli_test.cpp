@@ -438,8 +438,9 @@ TEST_F(RltCliTest, TrainParamErrorsNameTheParameterAndWriteNothing) {
 }
 
 // --max-steps N or NAME=N: a malformed value is a usage error (exit 2), a behavior the env does
-// not have an error naming the ones it has (exit 1); neither writes a run folder
-TEST_F(RltCliTest, TrainMaxStepsErrorsNameTheValueAndWriteNothing) {
+// not have an error naming the ones it has (exit 1); so for --until-emerged's strategies; none
+// writes a run folder
+TEST_F(RltCliTest, TrainMaxStepsAndUntilEmergedErrorsNameTheValueAndWriteNothing) {
   const std::string config = std::string(RLT_SOURCE_DIR) + "/configs/hide_and_seek.yaml";
   const fs::path results = root_ / "results_max_steps";
   struct Case {
@@ -452,7 +453,13 @@ TEST_F(RltCliTest, TrainMaxStepsErrorsNameTheValueAndWriteNothing) {
         Case{"--max-steps Seeker=0", "--max-steps Seeker=0: must be at least 1, got 0", 2},
         Case{"--max-steps =5", "--max-steps expects N or BEHAVIOR=N, got '=5'", 2},
         Case{"--max-steps 5 --max-steps 6", "--max-steps N given twice", 2},
-        Case{"--max-steps Hider=5 --max-steps Hider=6", "--max-steps Hider given twice", 2}}) {
+        Case{"--max-steps Hider=5 --max-steps Hider=6", "--max-steps Hider given twice", 2},
+        Case{"--until-emerged forts",
+             "--until-emerged forts: environment HideAndSeek declares no strategy 'forts' (it "
+             "declares: running_and_chasing, shelter",
+             1},
+        Case{"--until-emerged shelter --until-emerged shelter", "--until-emerged shelter given twice",
+             2}}) {
     Result r = rlt("train " + quote(config) + " " + c.flags + " --run-id m --results-dir " +
                    quote(results.string()));
     EXPECT_EQ(r.exit_code, c.exit_code) << c.flags << ": " << r.err;

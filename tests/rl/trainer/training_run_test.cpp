@@ -756,6 +756,45 @@ TEST_F(TrainingRunTest, AnUnknownStrategyToWaitForIsAnErrorBeforeWriting) {
       "high_x)");
 }
 
+TEST_F(TrainingRunTest, UntilEmergedStopsOnceEveryNamedStrategyHasEmerged) {
+  // low_x emerges within lesson A's first episodes (x = 0 from the start), long before the 400
+  // steps of max_steps: the run stops there, with a last checkpoint and the policy exported
+  TrainOptions opt = options("echo_until_low");
+  opt.until_emerged = {"low_x"};
+  TrainingRun run(echo_after_emerged_config("low_x"), opt);
+  run.train();
+  const Emergence& low = run.strategies().emergences().at(0);
+  ASSERT_EQ(low.strategy, "low_x");
+  ASSERT_GE(low.step, 0);
+  EXPECT_LT(run.trainer(0).step(), 400);
+  EXPECT_GE(run.trainer(0).step(), low.step);
+  EXPECT_NE(log_.str().find("Stopping: low_x emerged (--until-emerged)."), std::string::npos)
+      << log_.str();
+  EXPECT_TRUE(fs::exists(dir_ / "echo_until_low" / "Echo.pt"));
+  const TrainingStatus status = RunFolder(dir_.string(), "echo_until_low").read_status();
+  EXPECT_TRUE(status.finished);
+  EXPECT_FALSE(status.checkpoints.empty());
+  // with high_x too, which lesson A (held there until high_x emerges) never plays, the run goes
+  // on to max_steps
+  log_.str("");
+  TrainOptions both = options("echo_until_both");
+  both.until_emerged = {"low_x", "high_x"};
+  TrainingRun held(echo_after_emerged_config("high_x"), both);
+  held.train();
+  EXPECT_GE(held.strategies().emergences().at(0).step, 0);
+  EXPECT_LT(held.strategies().emergences().at(1).step, 0);
+  EXPECT_GE(held.trainer(0).step(), 400);
+  EXPECT_EQ(log_.str().find("Stopping:"), std::string::npos) << log_.str();
+}
+
+TEST_F(TrainingRunTest, UntilEmergedNamingAStrategyTheEnvLacksIsAnErrorBeforeWriting) {
+  TrainOptions opt = options("echo_until_bad");
+  opt.until_emerged = {"shelter"};
+  expect_rejected_before_writing(echo_after_emerged_config("low_x"), opt,
+                                 "--until-emerged shelter: environment StrategyEchoEnv declares no "
+                                 "strategy 'shelter' (it declares: low_x, high_x)");
+}
+
 TEST_F(TrainingRunTest, ALessonValueTheEnvRejectsIsAnErrorBeforeWriting) {
   // lesson C, reached only when A and B have ended, sets x = 99, which LessonEchoEnv rejects
   expect_rejected_before_writing(echo_curriculum_config("value", "", "0", "99"),
