@@ -149,6 +149,7 @@ struct HideAndSeek::Settings {
   bool hider_slot_obs = true;  // a hider's objects end with its slot one-hot (else zeros)
   bool latched_grab = false;  // grab option 0 keeps a held prop; only a lock lets it go
   bool square_grab = false;   // a grab swings the panel face-on to the drone (PropParams)
+  bool regrip = false;  // a decision's unlock acts before its grab: unlock and hold take it back
 };
 
 namespace {
@@ -236,6 +237,7 @@ HideAndSeek::HideAndSeek()
       {"hider_slot_obs", 1.f},
       {"latched_grab", 0.f},
       {"square_grab", 0.f},
+      {"regrip", 0.f},
   };
   // SPEC section 8: chasing is dated in seeker steps, shelter in hider steps and only counts at
   // level 2 and above (level 1's single doorway is the curriculum's first lesson) with the props
@@ -401,6 +403,7 @@ void HideAndSeek::build_episode() {
   s.hider_slot_obs = drone::int_parameter(*this, "hider_slot_obs", 0, 1) == 1;
   s.latched_grab = drone::int_parameter(*this, "latched_grab", 0, 1) == 1;
   s.square_grab = drone::int_parameter(*this, "square_grab", 0, 1) == 1;
+  s.regrip = drone::int_parameter(*this, "regrip", 0, 1) == 1;
   // -1: the level's own (0 at levels 1 and 2, 0.5 at 3 and 4)
   const float outside = parameter("hider_outside_chance");
   if (outside != -1.0f && !(outside >= 0.0f && outside <= 1.0f))
@@ -634,6 +637,15 @@ bool HideAndSeek::apply_grab_and_lock(Agent& a, const int* discrete) {
   if (a.team != kHider) return false;  // the mask forbids it; ignore a forbidden choice
   drone::DroneBody& d = *a.drone;
   const unsigned allowed = props_allowed(a);
+  const int team = static_cast<int>(kHider);
+  const auto unlock = [&] {
+    const int i = props_->unlock(d, team, allowed);
+    if (i >= 0) record_event("unlock", &d.body(), (*props_)[i].body);
+    return i >= 0;
+  };
+  // with regrip the unlock comes first, so a hold in the same decision can take the freed prop
+  const bool unlock_first = settings_->regrip && discrete[kLockBranch] == 2;
+  bool unlocked = unlock_first && unlock();
   const int before = props_->held_by(d);
   if (discrete[kGrabBranch] == 1) {
     const int got = props_->grab(d, allowed);
@@ -645,21 +657,16 @@ bool HideAndSeek::apply_grab_and_lock(Agent& a, const int* discrete) {
     props_->release(d);
     record_event("release", &d.body(), (*props_)[before].body);
   }
-  const int team = static_cast<int>(kHider);
   if (discrete[kLockBranch] == 1) {
     const int i = props_->lock(d, team, allowed);
     if (i >= 0) {
       record_event("lock", &d.body(), (*props_)[i].body);
       handled_in_prep_[a.slot] = handled_in_prep_[a.slot] || in_prep();
     }
-  } else if (discrete[kLockBranch] == 2) {
-    const int i = props_->unlock(d, team, allowed);
-    if (i >= 0) {
-      record_event("unlock", &d.body(), (*props_)[i].body);
-      return true;
-    }
+  } else if (discrete[kLockBranch] == 2 && !unlock_first) {
+    unlocked = unlock();
   }
-  return false;
+  return unlocked;
 }
 
 void HideAndSeek::record_event(const char* type, const btCollisionObject* body,
@@ -1037,10 +1044,14 @@ void HideAndSeek::write_mask(BehaviorView& view, const Agent& a) const {
   const drone::DroneBody& d = *a.drone;
   const unsigned allowed = props_allowed(a);
   m[0] = 1;
-  m[1] = hider && (!cues || props_->held_by(d) >= 0 || props_->grabbable(d, allowed) >= 0);
+  const bool unlockable = props_->unlockable(d, kHider, allowed) >= 0;
+  // with regrip, hold is also allowed before a prop the hider may unlock (unlock and hold together
+  // take it back)
+  m[1] = hider && (!cues || props_->held_by(d) >= 0 || props_->grabbable(d, allowed) >= 0 ||
+                   (settings_->regrip && unlockable));
   m[2] = 1;
   m[3] = hider && (!cues || props_->lockable(d, allowed) >= 0);
-  m[4] = hider && (!cues || props_->unlockable(d, kHider, allowed) >= 0);
+  m[4] = hider && (!cues || unlockable);
 }
 
 void HideAndSeek::write_observation(BehaviorView& view, const Agent& a) {

@@ -18,7 +18,10 @@
 // release by turns drop the prop every other decision and take it again at a drifted pose. With
 // `square_grab` 1 a grab swings the panel face-on to the drone (PropParams::square_hold), so a
 // hider facing a doorway holds its panel parallel to it, whichever way the panel lay (default 0:
-// the panel keeps the pose it was grabbed at).
+// the panel keeps the pose it was grabbed at). With `regrip` 1 a decision's unlock acts before its
+// grab, so unlock and hold together take a locked prop straight back into the hand, and the mask
+// allows hold before a prop the hider may unlock (default 0: the grab comes first and finds the
+// prop still locked; with the latched grab a hider that locked to let go needs two decisions).
 //
 // Time: physics at 50 Hz; an agent decides every `decision_period` (3) frames and its thrust is
 // repeated for those frames. An episode lasts at most `episode_frames` (3072) frames; the first

@@ -870,6 +870,37 @@ TEST(HideAndSeekTest, LatchedGrabKeepsTheHoldUntilALock) {
   }
 }
 
+// regrip 1: a hider that locked its held prop (the latched grab's only way to let go) takes it back
+// with unlock and hold in one decision, and its mask allows hold there; with 0 the same decision
+// only unlocks and hold is masked
+TEST(HideAndSeekTest, RegripTakesALockedPropBackInOneDecision) {
+  for (const float regrip : {0.f, 1.f}) {
+    SCOPED_TRACE(regrip);
+    Game g({{"level", 1.f}, {"num_hiders", 1.f}, {"num_seekers", 1.f}, {"latched_grab", 1.f},
+            {"regrip", regrip}});
+    place_prop_in_doorway_and_hider_before_it(g);
+    auto& hider = *g.env.agent(HideAndSeek::kHider, 0).drone;
+    g.set_all(0.0f, 1, 0);
+    g.harness.step();
+    ASSERT_EQ(g.env.props().held_by(hider), 0);
+    g.set_all(0.0f, 0, 1);
+    g.harness.step();
+    ASSERT_TRUE(g.env.props()[0].locked());
+    ASSERT_EQ(g.env.props().held_by(hider), -1);
+    const uint8_t* m = g.hiders().action_mask.data();
+    EXPECT_EQ(std::vector<int>(m, m + 5), std::vector<int>({1, regrip == 1.f ? 1 : 0, 1, 0, 1}));
+    g.set_all(0.0f, 1, 2);
+    g.harness.step();
+    EXPECT_FALSE(g.env.props()[0].locked());
+    EXPECT_EQ(g.env.props().held_by(hider), regrip == 1.f ? 0 : -1);
+    // a lock and a hold together still let go: the lock acts after the grab
+    g.set_all(0.0f, 1, 1);
+    g.harness.step();
+    EXPECT_TRUE(g.env.props()[0].locked());
+    EXPECT_EQ(g.env.props().held_by(hider), -1);
+  }
+}
+
 // square_grab 1: a hider facing the doorway that grabs a panel turned 40 degrees to it (in the
 // room, clear of the walls) holds it face-on within a few decisions; with 0 the panel keeps its
 // turn
