@@ -239,14 +239,16 @@ HideAndSeek::HideAndSeek()
       {"square_grab", 0.f},
       {"regrip", 0.f},
   };
-  // SPEC section 8: chasing is dated in seeker steps, shelter in hider steps and only counts at
-  // level 2 and above (level 1's single doorway is the curriculum's first lesson) with the props
-  // starting at their own places (prop_start_offset 1: not placed in the openings for the hiders)
-  // in games of the full length (a curriculum may shorten the test phase of its lessons; shelter
-  // is dated in the game SPEC section 4 describes) where any hider may move any prop (the
-  // paper's shared_props: a lesson may narrow it)
+  // SPEC section 8: both strategies are dated in games of the full length (a curriculum or a
+  // team's turn may shorten the test phase; a shorter one leaves the seekers less time to tag):
+  // the game SPEC section 4 describes. Chasing is dated in seeker steps, shelter in hider steps
+  // and only counts at level 2 and above (level 1's single doorway is the curriculum's first
+  // lesson) with the props starting at their own places (prop_start_offset 1: not placed in the
+  // openings for the hiders) where any hider may move any prop (the paper's shared_props: a
+  // lesson may narrow it)
   spec_.strategies = {
-      {"running_and_chasing", "tag_rate", "Seeker", 0.5f, 100, {}},
+      {"running_and_chasing", "tag_rate", "Seeker", 0.5f, 100,
+       {{"episode_frames", float(kFullEpisodeFrames)}}},
       {"shelter", "fort_rate", "Hider", 0.5f, 100,
        {{"level", 2.f},
         {"prop_start_offset", 1.f},

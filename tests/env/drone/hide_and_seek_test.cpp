@@ -436,6 +436,19 @@ TEST(HideAndSeekTest, ShelterCountsFullGamesAtTheOwnPlacesFromLevelTwo) {
             "shared_props >= 1");
 }
 
+// chasing is dated in full games only: a short test phase (a lesson's or a turn's) gives the
+// seekers less time to tag, and its episodes would pull the tag rate down
+TEST(HideAndSeekTest, ChasingCountsFullGamesOnly) {
+  HideAndSeek env;
+  const auto& strategies = env.spec().strategies;
+  const auto chasing = std::find_if(strategies.begin(), strategies.end(), [](const StrategySpec& s) {
+    return s.name == "running_and_chasing";
+  });
+  ASSERT_NE(chasing, strategies.end());
+  EXPECT_EQ(chasing->metric, "tag_rate");
+  EXPECT_EQ(chasing->describe_conditions(), "episode_frames >= 3072");
+}
+
 TEST(HideAndSeekTest, SeekersCannotGrabOrLock) {
   Game g({{"level", 1.f}});
   const uint8_t* seeker_mask = g.seekers().action_mask.data();
