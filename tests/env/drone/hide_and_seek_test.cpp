@@ -422,15 +422,21 @@ TEST(HideAndSeekTest, ClockFramesSetsTheClockObservationsScale) {
   EXPECT_FLOAT_EQ(short_clock.hiders().observations[0][12], 1.0f);
 }
 
+// the strategy of that name the env declares, or nullptr
+const StrategySpec* declared_strategy(const HideAndSeek& env, const std::string& name) {
+  const auto& strategies = env.spec().strategies;
+  const auto it = std::find_if(strategies.begin(), strategies.end(),
+                               [&](const StrategySpec& s) { return s.name == name; });
+  return it != strategies.end() ? &*it : nullptr;
+}
+
 // shelter is dated at level 2 and above, with the props at their own places, in full games with
 // shared props only: a lesson that shortens the test phase at the own places, or keeps each hider
 // to its own prop, does not count
 TEST(HideAndSeekTest, ShelterCountsFullGamesAtTheOwnPlacesFromLevelTwo) {
   HideAndSeek env;
-  const auto& strategies = env.spec().strategies;
-  const auto shelter = std::find_if(strategies.begin(), strategies.end(),
-                                    [](const StrategySpec& s) { return s.name == "shelter"; });
-  ASSERT_NE(shelter, strategies.end());
+  const StrategySpec* shelter = declared_strategy(env, "shelter");
+  ASSERT_NE(shelter, nullptr);
   EXPECT_EQ(shelter->describe_conditions(),
             "level >= 2 and prop_start_offset >= 1 and episode_frames >= 3072 and "
             "shared_props >= 1");
@@ -440,12 +446,10 @@ TEST(HideAndSeekTest, ShelterCountsFullGamesAtTheOwnPlacesFromLevelTwo) {
 // seekers less time to tag, and its episodes would pull the tag rate down
 TEST(HideAndSeekTest, ChasingCountsFullGamesOnly) {
   HideAndSeek env;
-  const auto& strategies = env.spec().strategies;
-  const auto chasing = std::find_if(strategies.begin(), strategies.end(), [](const StrategySpec& s) {
-    return s.name == "running_and_chasing";
-  });
-  ASSERT_NE(chasing, strategies.end());
+  const StrategySpec* chasing = declared_strategy(env, "running_and_chasing");
+  ASSERT_NE(chasing, nullptr);
   EXPECT_EQ(chasing->metric, "tag_rate");
+  EXPECT_EQ(chasing->behavior, "Seeker");
   EXPECT_EQ(chasing->describe_conditions(), "episode_frames >= 3072");
 }
 
