@@ -20,7 +20,8 @@ its behaviors: entry. CONFIG may name a base_config (a path relative to CONFIG's
 absolute; a base may name its own): CONFIG's keys are laid over the base's, mappings merging key
 by key, a mapping over a curriculum's lessons changing the lessons it names (lesson name -> keys;
 a new name with insert_before: NAME or insert_after: NAME adds a lesson, remove: true drops one),
-and other values (lists and null too) replacing the base's. Writes results/<run-id>/:
+a key given as `KEY: !remove` dropping the base's KEY, and other values (lists and null too)
+replacing the base's. Writes results/<run-id>/:
 configuration.yaml (the whole resolved configuration), checkpoints/, metrics/,
 <Behavior>/events.out.tfevents.* (TensorBoard, ML-Agents' tags: tensorboard --logdir results),
 training_status.json and <Behavior>.pt (TorchScript policies) at the end. Envs that declare

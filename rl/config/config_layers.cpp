@@ -43,6 +43,8 @@ void lay_over_at(const YAML::Node& under, const KeyOrigins& under_origins, const
                  const std::string& path, const std::string& over_file, KeyOrigins* origins,
                  YAML::Node* out);
 
+bool is_removal(const YAML::Node& value) { return value.Tag() == kRemoveTag; }
+
 // The value of entry `entry`'s scalar key `name`, or "" when it has none (or is no mapping).
 std::string name_of(const YAML::Node& entry) {
   if (!entry.IsMap()) return "";
@@ -220,6 +222,18 @@ void lay_over_at(const YAML::Node& under, const KeyOrigins& under_origins, const
       throw ConfigError(over_file, path, line_of(it->first),
                         "key '" + it->first.Scalar() + "' appears twice");
     }
+    if (is_removal(it->second)) {
+      const std::string at = child_path(path, it->first.Scalar());
+      // yaml-cpp reads a tag alone as an empty scalar
+      if (!it->second.IsNull() && !(it->second.IsScalar() && it->second.Scalar().empty())) {
+        throw ConfigError(over_file, at, line_of(it->first),
+                          std::string(kRemoveTag) + " takes no value (it drops the base's key)");
+      }
+      if (!find_entry(under, it->first.Scalar()).second.IsDefined()) {
+        throw ConfigError(over_file, at, line_of(it->first),
+                          "the base has no key '" + it->first.Scalar() + "' here to remove");
+      }
+    }
   }
   // The base's keys first, in the base's order, then the keys only `over` has, in its order.
   std::set<std::string> under_keys;
@@ -234,6 +248,7 @@ void lay_over_at(const YAML::Node& under, const KeyOrigins& under_origins, const
     }
     // over's key node, so that messages about the key give the line in over's file
     const auto [over_key, replacement] = find_entry(over, key);
+    if (is_removal(replacement)) continue;
     if (it->second.IsMap() && replacement.IsMap()) {
       YAML::Node merged(YAML::NodeType::Map);
       lay_over_at(it->second, under_origins, replacement, at, over_file, origins, &merged);
@@ -252,7 +267,32 @@ void lay_over_at(const YAML::Node& under, const KeyOrigins& under_origins, const
   }
 }
 
+// The first value tagged !remove at or below `node` (at `path`) throws: only a key the base
+// has can be removed, and lay_over_at has dropped every one of those.
+void refuse_removals_at(const YAML::Node& node, const std::string& path, const KeyOrigins& origins) {
+  if (is_removal(node)) {
+    throw ConfigError(origins.file_of(path), path, line_of(node),
+                      std::string(kRemoveTag) +
+                          " drops a key of the base configuration (base_config); here there is "
+                          "no base's key for it to drop");
+  }
+  if (node.IsMap()) {
+    for (auto it = node.begin(); it != node.end(); ++it) {
+      const std::string key = it->first.IsScalar() ? it->first.Scalar() : "";
+      refuse_removals_at(it->second, child_path(path, key), origins);
+    }
+  } else if (node.IsSequence()) {
+    for (size_t i = 0; i < node.size(); ++i) {
+      refuse_removals_at(node[i], path + "[" + std::to_string(i) + "]", origins);
+    }
+  }
+}
+
 }  // namespace
+
+void refuse_removals(const YAML::Node& tree, const KeyOrigins& origins) {
+  refuse_removals_at(tree, "", origins);
+}
 
 const std::string& KeyOrigins::file_of(const std::string& key_path) const {
   // The nearest listed ancestor: the longest listed path that key_path lies within.

@@ -3,8 +3,8 @@
 // a mapping laid over a list of named mappings (a curriculum's lessons) changes the entries it
 // names (lesson name -> the lesson's keys to lay over), keeping the list's order and the rest,
 // and adds (`insert_before: NAME` or `insert_after: NAME`) or drops (`remove: true`) entries;
-// anything else (a scalar, a list, null) replaces the base's value whole. Our extension:
-// ML-Agents has no base files.
+// a key whose value is the tag `!remove` alone drops the base's key; anything else (a scalar, a
+// list, null) replaces the base's value whole. Our extension: ML-Agents has no base files.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -45,5 +45,13 @@ class KeyOrigins {
 // naming over_file (elsewhere the parser finds it as in any file).
 YAML::Node lay_over(const YAML::Node& under, const KeyOrigins& under_origins,
                     const YAML::Node& over, const std::string& over_file, KeyOrigins* origins);
+
+// The tag of a value that drops its key from the base: `key: !remove`.
+inline constexpr const char* kRemoveTag = "!remove";
+
+// Throws ConfigError naming the file, key and line of the first value in `tree` still tagged
+// !remove: one in a file without a base, under a key the base does not have as a mapping, in a
+// list, or in a lesson the file adds. lay_over has dropped every key it could.
+void refuse_removals(const YAML::Node& tree, const KeyOrigins& origins);
 
 }  // namespace rlt

@@ -1658,6 +1658,7 @@ YAML::Node lay_over_bases(const YAML::Node& root, const std::string& file,
   const YAML::Node base_root = read_document(read_text(base, file, "base_config", line), base);
   KeyOrigins base_origins(base);
   const YAML::Node base_tree = lay_over_bases(base_root, base, chain, &base_origins);
+  refuse_removals(base_tree, base_origins);
   Parser(base_origins).parse(base_tree);  // the base must be a configuration on its own
   chain->pop_back();
   return lay_over(base_tree, base_origins, over, file, origins);
@@ -1671,6 +1672,7 @@ RunConfig load_run_config_from_string(const std::string& yaml, const std::string
     std::vector<std::string> chain;
     KeyOrigins origins(source_name);
     const YAML::Node tree = lay_over_bases(root, source_name, &chain, &origins);
+    refuse_removals(tree, origins);
     return Parser(origins).parse(tree);
   } catch (const YAML::Exception& error) {  // not expected: the parser only reads checked nodes
     throw ConfigError(source_name, "", 0, std::string("cannot read the YAML: ") + error.what());

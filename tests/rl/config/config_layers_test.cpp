@@ -80,6 +80,16 @@ ConfigError load_error(const std::string& path) {
   return ConfigError("", "", 0, "");
 }
 
+// The ConfigError loading `path` throws, checked to name `file`, `key_path` and `line`.
+ConfigError expect_error_at(const std::string& path, const std::string& file,
+                            const std::string& key_path, int line) {
+  const ConfigError error = load_error(path);
+  EXPECT_EQ(error.file(), file) << error.what();
+  EXPECT_EQ(error.key_path(), key_path) << error.what();
+  EXPECT_EQ(error.line(), line) << error.what();
+  return error;
+}
+
 TEST(ConfigLayersTest, MappingsMergeKeyByKeyAndListsReplace) {
   TempFolder folder;
   folder.write("base.yaml", kBase);
@@ -341,6 +351,68 @@ TEST(ConfigLayersTest, ANullReplacesTheBasesValue) {
   EXPECT_EQ(runner.max_steps, 500000);
   EXPECT_FLOAT_EQ(runner.hyperparameters.learning_rate, 3e-4f);
   EXPECT_EQ(runner.hyperparameters.batch_size, 64);
+}
+
+// `key: !remove` drops the base's key at any depth, a lesson's keys too; a removal with nothing
+// of the base's to drop is an error naming the file, key and line.
+TEST(ConfigLayersTest, ARemoveTagDropsTheBasesKey) {
+  TempFolder folder;
+  folder.write("base.yaml", kBase);
+  const std::string child = folder.write("child.yaml", R"(base_config: base.yaml
+behaviors:
+  Runner:
+    hyperparameters:
+      learning_rate: !remove
+    max_steps: !remove
+environment_parameters:
+  level:
+    curriculum:
+      easy:
+        completion_criteria: {threshold: !remove}
+env_settings:
+  params: {a: !remove, c: 3}
+)");
+  const RunConfig config = load_run_config(child);
+  const BehaviorConfig& runner = config.behaviors.at("Runner");
+  EXPECT_FLOAT_EQ(runner.hyperparameters.learning_rate, 3e-4f);  // ML-Agents' default again
+  EXPECT_EQ(runner.max_steps, 500000);
+  EXPECT_FLOAT_EQ(runner.hyperparameters.beta, 0.005f);  // beside it, the base's
+  const auto& lessons = config.environment_parameters.at("level").curriculum;
+  ASSERT_EQ(lessons.size(), 2u);
+  EXPECT_FLOAT_EQ(lessons[0].completion_criteria->threshold, 0.0f);  // the criteria's default
+  EXPECT_EQ(lessons[0].completion_criteria->behavior, "Runner");
+  EXPECT_EQ(config.env_settings.params.count("a"), 0u);
+  EXPECT_EQ(config.env_settings.params.at("b"), 2.0);
+  EXPECT_EQ(config.env_settings.params.at("c"), 3.0);
+  // a key the base does not have
+  const std::string absent = folder.write(
+      "absent.yaml", "base_config: base.yaml\nenv_settings:\n  params: {d: !remove}\n");
+  ConfigError error = expect_error_at(absent, absent, "env_settings.params.d", 3);
+  EXPECT_NE(error.problem().find("no key 'd' here to remove"), std::string::npos) << error.what();
+  // a value beside the tag
+  const std::string valued = folder.write(
+      "valued.yaml", "base_config: base.yaml\nenv_settings:\n  params:\n    a: !remove 4\n");
+  error = expect_error_at(valued, valued, "env_settings.params.a", 4);
+  EXPECT_NE(error.problem().find("takes no value"), std::string::npos) << error.what();
+  // a file without a base, and a lesson the file adds: nothing of a base's to drop there
+  const std::string alone = folder.write(
+      "alone.yaml", std::string(kBase) + "torch_settings:\n  device: !remove\n");
+  error = expect_error_at(alone, alone, "torch_settings.device", 29);
+  EXPECT_NE(error.problem().find("no base's key for it to drop"), std::string::npos)
+      << error.what();
+  const std::string added = folder.write("added.yaml", R"(base_config: base.yaml
+environment_parameters:
+  level:
+    curriculum:
+      middle:
+        insert_after: easy
+        value: !remove
+)");
+  expect_error_at(added, added, "environment_parameters.level.curriculum[1].value", 7);
+  // a removal in a base is the base's problem, named so
+  const std::string middle = folder.write(
+      "middle.yaml", "base_config: alone.yaml\nbehaviors:\n  Runner:\n    max_steps: 5\n");
+  expect_error_at(middle, alone, "torch_settings.device", 29);
 }
 
 TEST(ConfigLayersTest, AProblemNamesTheFileAndLineItIsIn) {
