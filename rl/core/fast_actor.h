@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rl/config/run_config.h"
+#include "rl/core/matrix_product.h"
 #include "rl/core/running_normalizer.h"
 #include "rl/env_api/uniform_random.h"
 #include "rl/env_api/spec.h"
@@ -18,8 +19,6 @@
 namespace rlt {
 
 class PolicyNetworkImpl;
-
-using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // Actions chosen for a batch of agents.
 struct ActBatch {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rl/core/matrix_product.h"
+
 namespace rlt {
 
 namespace {
@@ -59,7 +61,8 @@ void MlpPpoGradient::body_forward(const std::vector<DenseLayer>& body, const Row
   y.resize(body.size());
   for (size_t l = 0; l < body.size(); ++l) {
     const RowMatrix& in = l == 0 ? x : y[l - 1];
-    z[l].noalias() = in * weight_of(body[l].weight);
+    z[l].resize(in.rows(), body[l].weight.size(1));
+    multiply(in, Transpose::kNo, weight_of(body[l].weight), Transpose::kNo, z[l]);
     z[l].rowwise() += bias_of(body[l].bias);
     activate(net_.shape().activation, z[l], y[l]);
   }
@@ -71,9 +74,13 @@ void MlpPpoGradient::body_backward(const std::vector<DenseLayer>& body, const Ro
   for (size_t l = body.size(); l-- > 0;) {
     RowMatrix dz = activation_backward(net_.shape().activation, z[l], y[l], dy);
     const RowMatrix& in = l == 0 ? x : y[l - 1];
-    weight_grad(body[l].weight).noalias() = in.transpose() * dz;
+    Map weight_gradient = weight_grad(body[l].weight);
+    multiply(in, Transpose::kYes, dz, Transpose::kNo, weight_gradient);
     bias_grad(body[l].bias) = dz.colwise().sum();
-    if (l > 0) dy.noalias() = dz * weight_of(body[l].weight).transpose();
+    if (l > 0) {
+      dy.resize(dz.rows(), in.cols());
+      multiply(dz, Transpose::kNo, weight_of(body[l].weight), Transpose::kYes, dy);
+    }
   }
 }
 
@@ -97,7 +104,8 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   RowMatrix zc;  // [B, C] standardized actions
   Eigen::RowVectorXf log_std, std_dev;
   if (C > 0) {
-    RowMatrix mean = actor_h * weight_of(net_.mean_head.weight);
+    RowMatrix mean(B, C);
+    multiply(actor_h, Transpose::kNo, weight_of(net_.mean_head.weight), Transpose::kNo, mean);
     mean.rowwise() += bias_of(net_.mean_head.bias);
     log_std = bias_of(net_.log_std);
     std_dev = log_std.array().exp();
@@ -114,7 +122,8 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   RowMatrix probs, log_probs;  // [B, M]
   RowMatrix branch_entropy;    // [B, K]
   if (K > 0) {
-    RowMatrix logits = actor_h * weight_of(net_.logits_head.weight);
+    RowMatrix logits(B, M);
+    multiply(actor_h, Transpose::kNo, weight_of(net_.logits_head.weight), Transpose::kNo, logits);
     logits.rowwise() += bias_of(net_.logits_head.bias);
     probs.setZero(B, M);
     log_probs.setZero(B, M);
@@ -188,9 +197,11 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   if (C > 0) {
     RowMatrix d_mean = zc.array().rowwise() / std_dev.array();
     d_mean.array().colwise() *= g.array();
-    weight_grad(net_.mean_head.weight).noalias() = actor_h.transpose() * d_mean;
+    Map mean_weight_gradient = weight_grad(net_.mean_head.weight);
+    multiply(actor_h, Transpose::kYes, d_mean, Transpose::kNo, mean_weight_gradient);
     bias_grad(net_.mean_head.bias) = d_mean.colwise().sum();
-    d_actor_h.noalias() += d_mean * weight_of(net_.mean_head.weight).transpose();
+    multiply(d_mean, Transpose::kNo, weight_of(net_.mean_head.weight), Transpose::kYes, d_actor_h,
+             /*accumulate=*/true);
     RowMatrix z2_minus_1 = zc.array().square() - 1.f;
     RowMap log_std_grad(net_.log_std.grad().data_ptr<float>(), C);
     log_std_grad = (z2_minus_1.array().colwise() * g.array()).colwise().sum() - beta;
@@ -211,9 +222,11 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
         offset += n;
       }
     }
-    weight_grad(net_.logits_head.weight).noalias() = actor_h.transpose() * d_logits;
+    Map logits_weight_gradient = weight_grad(net_.logits_head.weight);
+    multiply(actor_h, Transpose::kYes, d_logits, Transpose::kNo, logits_weight_gradient);
     bias_grad(net_.logits_head.bias) = d_logits.colwise().sum();
-    d_actor_h.noalias() += d_logits * weight_of(net_.logits_head.weight).transpose();
+    multiply(d_logits, Transpose::kNo, weight_of(net_.logits_head.weight), Transpose::kYes,
+             d_actor_h, /*accumulate=*/true);
   }
   weight_grad(net_.value_head.weight).col(0).noalias() = critic_h.transpose() * dv;
   net_.value_head.bias.grad().data_ptr<float>()[0] = dv.sum();

@@ -1,5 +1,6 @@
 // The PPO loss of one minibatch and its gradient for the MLP actor-critic, written out by hand in
-// Eigen: the fast path of PpoTrainer::update.
+// Eigen (its large matrix products go through the BLAS, see matrix_product.h): the fast path of
+// PpoTrainer::update.
 //
 // The loss is exactly ppo_loss() over evaluate_actions() and PolicyNetwork (see ppo_loss.h); the
 // autograd version of the same computation is the reference, and the tests compare the two

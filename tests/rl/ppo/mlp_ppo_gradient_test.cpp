@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "rl/core/action_distribution.h"
+#include "rl/core/matrix_product.h"
 #include "rl/ppo/ppo_loss.h"
 
 namespace rlt {
@@ -19,6 +20,8 @@ struct GradientCase {
   bool shared_critic;
   bool masked;
   float discrete_beta = 0.01f;  // the branches' entropy bonus (beta is 0.01)
+  int obs_size = 6, hidden_units = 16;
+  int64_t rows = 37;
 };
 
 class MlpPpoGradientTest : public ::testing::TestWithParam<GradientCase> {};
@@ -27,10 +30,10 @@ TEST_P(MlpPpoGradientTest, EqualsAutograd) {
   const auto c = GetParam();
   torch::manual_seed(11);
   NetworkShape shape;
-  shape.obs_size = 6;
+  shape.obs_size = c.obs_size;
   shape.action.continuous_size = c.continuous;
   shape.action.discrete_branches = c.branches;
-  shape.hidden_units = 16;
+  shape.hidden_units = c.hidden_units;
   shape.num_layers = 2;
   shape.activation = c.activation;
   shape.shared_critic = c.shared_critic;
@@ -40,9 +43,9 @@ TEST_P(MlpPpoGradientTest, EqualsAutograd) {
     torch::NoGradGuard g;
     for (auto& p : net->parameters()) p.add_(torch::randn_like(p) * 0.3);
   }
-  const int64_t B = 37;
+  const int64_t B = c.rows;
   const int M = shape.action.mask_size(), K = shape.action.num_branches(), C = c.continuous;
-  auto obs = torch::randn({B, 6});
+  auto obs = torch::randn({B, c.obs_size});
   torch::Tensor mask, cont, disc;
   if (K > 0) {
     mask = torch::ones({B, M});
@@ -140,7 +143,14 @@ INSTANTIATE_TEST_SUITE_P(
                       GradientCase{0, {4, 3}, Activation::kSwish, false, true},
                       // the branches' own entropy bonus, larger and switched off
                       GradientCase{2, {3, 2}, Activation::kTanh, false, true, 0.2f},
-                      GradientCase{0, {4, 3}, Activation::kRelu, true, true, 0.f}));
+                      GradientCase{0, {4, 3}, Activation::kRelu, true, true, 0.f},
+                      // bodies large enough for the BLAS path of multiply() (see the test below)
+                      GradientCase{2, {3, 2}, Activation::kTanh, false, true, 0.05f, 160, 160, 200}));
+
+TEST(MlpPpoGradientSizes, LargeCaseTakesTheBlasPath) {
+  EXPECT_GE(int64_t(200) * 160 * 160, kBlasProductMinMultiplies);
+  EXPECT_LT(int64_t(37) * 16 * 16, kBlasProductMinMultiplies);
+}
 
 }  // namespace
 }  // namespace rlt
