@@ -23,7 +23,8 @@ const char* const kBenchHelp = R"(Usage:
       trains CONFIG for N agent steps per behavior (default 100000) without writing a run folder
       and reports env_steps_per_s and agent_steps_per_s, end to end (acting, env, learning),
       where the time went, and learner_gflops: the updates' matrix-product operations (counted
-      from the layer shapes) per second of update time. --nproc R trains with R data-parallel
+      from the layer shapes) per second of update time; behaviors gives each behavior's
+      update_s and learner_gflops. --nproc R trains with R data-parallel
       ranks on this machine (as rlt train --nproc; the rates are of all ranks together, each with
       --num-envs instances); parameters gives each behavior's trained parameters, whose
       gradient (4 bytes each) is all-reduced once per minibatch.
@@ -72,8 +73,20 @@ int bench_train(const CommandLine& cl, const std::vector<std::string>& args) {
   for (int b = 0; b < run.num_trainers(); ++b)
     parameters += (b ? "," : "") + json_string(run.trainer(b).behavior()) + ":" +
                   std::to_string(run.trainer(b).flat_parameters().numel());
-  const double learner_gflops =
-      r.update_seconds > 0 ? r.update_matmul_flops / r.update_seconds * 1e-9 : 0.0;
+  auto gflops = [](double flops, double seconds) { return seconds > 0 ? flops / seconds * 1e-9 : 0.0; };
+  const double learner_gflops = gflops(r.update_matmul_flops, r.update_seconds);
+  // each behavior's updates: seconds and the learner's GFLOP/s in them
+  std::string updates_json, updates_text;
+  for (int b = 0; b < run.num_trainers(); ++b) {
+    const std::string& name = run.trainer(b).behavior();
+    const double s = r.trainer_update_seconds[b];
+    const double g = gflops(r.trainer_update_matmul_flops[b], s);
+    updates_json += (b ? "," : "") + json_string(name) + ":{\"update_s\":" + json_number(s) +
+                    ",\"learner_gflops\":" + json_number(g) + "}";
+    std::ostringstream t;
+    t << (b ? ", " : "") << name << " " << s << " s at " << g << " GFLOP/s";
+    updates_text += t.str();
+  }
   if (cl.has("--json")) {
     std::cout << "{\"env_steps_per_s\":" << json_number(env_rate)
               << ",\"agent_steps_per_s\":" << json_number(agent_rate)
@@ -83,6 +96,7 @@ int bench_train(const CommandLine& cl, const std::vector<std::string>& args) {
               << ",\"trajectory_s\":" << json_number(r.trajectory_seconds)
               << ",\"update_s\":" << json_number(r.update_seconds)
               << ",\"learner_gflops\":" << json_number(learner_gflops)
+              << ",\"behaviors\":{" << updates_json << "}"
               << ",\"ranks\":" << launch.world_size << ",\"parameters\":{" << parameters << "}}"
               << std::endl;
   } else {
@@ -90,7 +104,8 @@ int bench_train(const CommandLine& cl, const std::vector<std::string>& args) {
               << " env steps/s, " << agent_rate << " agent steps/s (acting " << r.acting_seconds
               << " s, envs " << r.env_seconds << " s, trajectories " << r.trajectory_seconds
               << " s, updates " << r.update_seconds << " s; learner " << learner_gflops
-              << " GFLOP/s in matrix products)" << std::endl;
+              << " GFLOP/s in matrix products; updates by behavior: " << updates_text << ")"
+              << std::endl;
   }
   return 0;
 }

@@ -423,6 +423,8 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
   for (int b = 0; b < nb; ++b) synced_step_[b] = trainers_[b]->step();
   ready_.assign(nb, 0);
   TrainResult result;
+  result.trainer_update_seconds.assign(nb, 0.0);
+  result.trainer_update_matmul_flops.assign(nb, 0.0);
   int64_t start_steps = 0;
   for (auto& t : trainers_) start_steps += t->step();
   int boundaries = 0;
@@ -493,8 +495,11 @@ TrainResult TrainingRun::train(int stop_after_boundaries) {
         UpdateStats stats = t.update();
         if (learner_threads > 1) set_blas_threads(1);
         if (distributed()) check_replicas(b);
-        result.update_seconds += seconds_since(t0);
+        const double seconds = seconds_since(t0);
+        result.update_seconds += seconds;
         result.update_matmul_flops += stats.matmul_flops;
+        result.trainer_update_seconds[b] += seconds;
+        result.trainer_update_matmul_flops[b] += stats.matmul_flops;
         log_update(b, stats);
       }
       if (t.step() >= next_summary_[b]) {

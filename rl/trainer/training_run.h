@@ -64,6 +64,8 @@ struct TrainResult {
   // where the time went (seconds): choosing actions, stepping envs, building trajectories, updates
   double acting_seconds = 0, env_seconds = 0, trajectory_seconds = 0, update_seconds = 0;
   double update_matmul_flops = 0;  // matrix-product operations of every update (UpdateStats)
+  // the same two per trainer (index as TrainingRun::trainer())
+  std::vector<double> trainer_update_seconds, trainer_update_matmul_flops;
 };
 
 class TrainingRun {

@@ -321,6 +321,14 @@ TEST_F(RltCliTest, BenchTrainReportsRates) {
   EXPECT_GT(std::stod(m[1]), 0.0);
   ASSERT_TRUE(std::regex_search(r.out, m, std::regex("\"agent_steps_per_s\":" + number))) << r.out;
   EXPECT_GT(std::stod(m[1]), 0.0);
+  // one behavior: its own update time is all of the updates' time
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("\"update_s\":" + number))) << r.out;
+  const double update_s = std::stod(m[1]);
+  EXPECT_GT(update_s, 0.0);
+  ASSERT_TRUE(std::regex_search(
+      r.out, m, std::regex(R"("behaviors":\{"[A-Za-z]+":\{"update_s":)" + number + ",\"learner_gflops\":")))
+      << r.out;
+  EXPECT_DOUBLE_EQ(std::stod(m[1]), update_s) << r.out;
   EXPECT_TRUE(fs::is_empty(cwd)) << "a benchmark wrote a run folder";
 }
 
