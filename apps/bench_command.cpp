@@ -73,7 +73,9 @@ int bench_train(const CommandLine& cl, const std::vector<std::string>& args) {
   for (int b = 0; b < run.num_trainers(); ++b)
     parameters += (b ? "," : "") + json_string(run.trainer(b).behavior()) + ":" +
                   std::to_string(run.trainer(b).flat_parameters().numel());
-  auto gflops = [](double flops, double seconds) { return seconds > 0 ? flops / seconds * 1e-9 : 0.0; };
+  auto gflops = [](double flops, double seconds) {
+    return seconds > 0 ? flops / seconds * 1e-9 : 0.0;
+  };
   const double learner_gflops = gflops(r.update_matmul_flops, r.update_seconds);
   // each behavior's updates: seconds and the learner's GFLOP/s in them
   std::string updates_json, updates_text;

@@ -3,7 +3,7 @@
 // Small products stay in Eigen: a call through LibTorch costs a few microseconds, more than a
 // CartPole-sized product takes. Large ones go through LibTorch's BLAS, which runs its kernels on as
 // many threads as set_blas_threads() allows during an update. Eigen here has no OpenMP, so its
-// products use one core: measured on a Zen 3 with hide-and-seek's 919 x 256 bodies, they were 14%
+// products use one core: measured on a Zen 3 with hide-and-seek's 943 x 256 bodies, they were 14%
 // of a training run's cycles while the second core waited.
 #pragma once
 

@@ -145,7 +145,8 @@ INSTANTIATE_TEST_SUITE_P(
                       GradientCase{2, {3, 2}, Activation::kTanh, false, true, 0.2f},
                       GradientCase{0, {4, 3}, Activation::kRelu, true, true, 0.f},
                       // bodies large enough for the BLAS path of multiply() (see the test below)
-                      GradientCase{2, {3, 2}, Activation::kTanh, false, true, 0.05f, 160, 160, 200}));
+                      GradientCase{2, {3, 2}, Activation::kTanh, false, true, 0.05f, 160, 160,
+                                   200}));
 
 TEST(MlpPpoGradientSizes, LargeCaseTakesTheBlasPath) {
   EXPECT_GE(int64_t(200) * 160 * 160, kBlasProductMinMultiplies);
