@@ -43,6 +43,8 @@ class PocaCriticImpl : public torch::nn::Module {
   const PocaCriticShape& shape() const { return shape_; }
 
  private:
+  friend class PocaCriticGradient;  // the hand-written gradient reads the layers directly
+
   // entities: [B, N, H], present: [B, N] -> [B] through attention, pooling, MLP and head
   torch::Tensor head(const torch::Tensor& entities, const torch::Tensor& present);
 

@@ -7,7 +7,6 @@
 #include "rl/core/action_distribution.h"
 #include "rl/core/bad_numbers.h"
 #include "rl/core/lambda_return.h"
-#include "rl/ppo/ppo_loss.h"
 
 namespace rlt {
 
@@ -25,6 +24,8 @@ PocaTrainer::PocaTrainer(const BehaviorSpec& spec, const BehaviorConfig& config,
   shape.activation = config.network_settings.activation;
   critic_ = PocaCritic(shape);
   create_optimizer();
+  actor_gradient_ = std::make_unique<MlpPpoGradient>(*net_);
+  critic_gradient_ = std::make_unique<PocaCriticGradient>(*critic_);
   buffer_.others = others_;
   buffer_.action_code = action_code_;
   trajectories_.assign(rows_, buffer_);
@@ -175,11 +176,13 @@ UpdateStats PocaTrainer::update() {
   auto mask = torch::from_blob(buffer_.mask.data(), {n, s.mask_size()});                       // [N, M]
   auto adv = torch::from_blob(buffer_.advantages.data(), {n});                                 // [N]
   adv = normalize_advantages(adv);
-  auto old = torch::stack({torch::from_blob(buffer_.log_prob.data(), {n}), adv,
-                           torch::from_blob(buffer_.value.data(), {n}),
-                           torch::from_blob(buffer_.baseline.data(), {n}),
-                           torch::from_blob(buffer_.returns.data(), {n})},
-                          1);  // [N, 5]
+  auto old_value = torch::from_blob(buffer_.value.data(), {n});                              // [N]
+  auto returns = torch::from_blob(buffer_.returns.data(), {n});                              // [N]
+  // the actor's rows as MinibatchView reads them (it has no critic: the last two are unused)
+  auto actor_old = torch::stack({torch::from_blob(buffer_.log_prob.data(), {n}), adv,
+                                 old_value, returns}, 1);                                  // [N, 4]
+  auto critic_old = torch::stack({old_value, torch::from_blob(buffer_.baseline.data(), {n}),
+                                  returns}, 1);                                            // [N, 3]
 
   const int64_t bs = local_batch_size(), batches = agreed_batches(n);  // this rank's share
   double sums[6] = {0, 0, 0, 0, 0, 0};  // policy, value, baseline, entropy, KL, clip fraction
@@ -190,45 +193,52 @@ UpdateStats PocaTrainer::update() {
       // each minibatch gathers its rows (a whole shuffled copy of the others' observations
       // would be N x U x D floats, hundreds of MB, allocated and faulted in every epoch)
       auto mb_idx = idx.narrow(0, b * bs, bs);                                   // [B]
-      auto slice = [&](const torch::Tensor& t) { return t.index_select(0, mb_idx); };
-      auto mb_obs = normalize(slice(obs)), mb_others = normalize(slice(others));  // [B, D], [B, U, D]
+      auto slice = [&](const torch::Tensor& t) { return t.index_select(0, mb_idx).contiguous(); };
+      auto mb_obs = normalize(slice(obs)).contiguous();                          // [B, D]
+      auto mb_others = normalize(slice(others)).contiguous();                    // [B, U, D]
+      auto mb_actions = slice(actions);                                          // [B, U, A]
       auto mb_present = slice(present);                                          // [B, U]
-      auto mb_old = slice(old);                                                  // [B, 5]
-      auto e_mask = mask, e_cont = cont, e_disc = disc, e_actions = actions;
-      auto out = net_->actor(mb_obs);
-      auto lp = evaluate_actions(s, out.mean, net_->log_std, out.logits,
-                                 s.mask_size() ? slice(e_mask) : torch::Tensor(),
-                                 s.continuous_size ? slice(e_cont) : torch::Tensor(),
-                                 s.num_branches() ? slice(e_disc) : torch::Tensor());
-      auto all = torch::cat({mb_obs.unsqueeze(1), mb_others}, 1);
-      auto all_present = torch::cat({torch::ones({bs, 1}), mb_present}, 1);
-      auto values = critic_->value(all, all_present);
-      auto baselines = critic_->baseline(mb_obs, mb_others, slice(e_actions), mb_present);
-      auto returns = mb_old.select(1, 4);
-      PpoLoss l = ppo_loss(lp.log_prob, mb_old.select(1, 0), mb_old.select(1, 1), values,
-                           mb_old.select(1, 2), returns, lp.entropy, lp.discrete_entropy,
-                           stats.epsilon, stats.beta, stats.discrete_beta, 0.5f);
-      auto baseline_loss = clipped_value_loss(baselines, mb_old.select(1, 3), returns, stats.epsilon);
-      auto total = l.total + 0.25f * baseline_loss;  // policy + 0.5 (value + 0.5 baseline) - beta H
-      const float total_value = total.item<float>();
-      if (!std::isfinite(total_value)) {
+      auto mb_actor_old = slice(actor_old), mb_critic_old = slice(critic_old);   // [B, 4], [B, 3]
+      torch::Tensor mb_cont, mb_disc, mb_mask;  // [B, C], [B, K], [B, M] where the action has them
+      MinibatchView actor_mb;
+      actor_mb.rows = bs;
+      actor_mb.obs = mb_obs.data_ptr<float>();
+      if (s.continuous_size) actor_mb.continuous = (mb_cont = slice(cont)).data_ptr<float>();
+      if (s.num_branches()) actor_mb.discrete = (mb_disc = slice(disc)).data_ptr<int64_t>();
+      if (s.mask_size()) actor_mb.mask = (mb_mask = slice(mask)).data_ptr<float>();
+      actor_mb.old = mb_actor_old.data_ptr<float>();
+      CriticMinibatchView critic_mb;
+      critic_mb.rows = bs;
+      critic_mb.others = used;
+      critic_mb.obs = actor_mb.obs;
+      critic_mb.others_obs = mb_others.data_ptr<float>();
+      critic_mb.others_actions = mb_actions.data_ptr<float>();
+      critic_mb.others_present = mb_present.data_ptr<float>();
+      critic_mb.old = mb_critic_old.data_ptr<float>();
+
+      // each writes its own parameters' gradients: the actor's, then the critic's
+      const LossValues l = actor_gradient_->compute(actor_mb, stats.epsilon, stats.beta,
+                                                    stats.discrete_beta, kValueCoef);
+      const CriticLossValues critic_loss =
+          critic_gradient_->compute(critic_mb, stats.epsilon, kValueCoef, kBaselineCoef);
+      const double total = l.total + kValueCoef * critic_loss.value +
+                           kBaselineCoef * critic_loss.baseline;
+      if (!std::isfinite(total)) {
         std::ostringstream os;
         os << "behavior " << spec_.name << ", update " << updates_ + 1 << ", step " << step_
-           << ": loss is " << total_value << " (policy " << l.policy.item<float>() << ", value "
-           << l.value.item<float>() << ", baseline " << baseline_loss.item<float>() << ")";
+           << ": loss is " << total << " (policy " << l.policy << ", value " << critic_loss.value
+           << ", baseline " << critic_loss.baseline << ", entropy " << l.entropy << ")";
         throw BadNumberError(os.str());
       }
-      optimizer_->zero_grad();
-      total.backward();
       reduce_gradients();
       if (hp.max_grad_norm > 0) optimizer_->clip_grad_norm(hp.max_grad_norm);
       optimizer_->step(stats.learning_rate);
-      sums[0] += l.policy.item<float>();
-      sums[1] += l.value.item<float>();
-      sums[2] += baseline_loss.item<float>();
-      sums[3] += l.entropy.item<float>();
-      sums[4] += l.approx_kl.item<float>();
-      sums[5] += l.clip_fraction.item<float>();
+      sums[0] += l.policy;
+      sums[1] += critic_loss.value;
+      sums[2] += critic_loss.baseline;
+      sums[3] += l.entropy;
+      sums[4] += l.approx_kl;
+      sums[5] += l.clip_fraction;
     }
   }
   const double count = std::max<int64_t>(1, batches * hp.num_epoch);
@@ -239,14 +249,15 @@ UpdateStats PocaTrainer::update() {
   stats.approx_kl = float(sums[4] / count);
   stats.clip_fraction = float(sums[5] / count);
   {
-    // critic: value over 1 + U members, baseline over the own observation and U (obs, action)
-    // pairs; each with embeddings, 4 attention projections per member, the MLP and the head
+    // critic (as PocaCriticGradient computes it): the observation embedding of the own and U
+    // others' observations, the (observation, action) embedding of the U others, then the value's
+    // and the baseline's 1 + U members each through 4 attention projections, the MLP and the head
     const double d = obs_size_, h = shape_hidden(), a = action_code_, u = double(used);
     const int layers = config_.network_settings.num_layers;
     const double tail = layers * h * h + h;
-    const double value = (1 + u) * (d * h + 4 * h * h) + tail;
-    const double baseline = d * h + u * (d + a) * h + (1 + u) * 4 * h * h + tail;
-    stats.matmul_flops = 6.0 * (actor_macs() + value + baseline) * double(batches * bs) * hp.num_epoch;
+    const double embeddings = (1 + u) * d * h + u * (d + a) * h;
+    const double critic = embeddings + 2 * ((1 + u) * 4 * h * h + tail);
+    stats.matmul_flops = 6.0 * (actor_macs() + critic) * double(batches * bs) * hp.num_epoch;
   }
   buffer_.clear();
   ++updates_;

@@ -16,9 +16,15 @@
 //   at the step it left; only when the whole group is done and terminated is the bootstrap 0.
 // Deliberate differences: as in PPO, the joint action's ratio is clipped (see
 // action_distribution.h); absent members are masked explicitly (see poca_critic.h).
+// The minibatch gradient is written out by hand, MlpPpoGradient for the actor (it has no critic)
+// and PocaCriticGradient for the critic, each checked in tests against autograd.
 #pragma once
 
+#include <memory>
+
 #include "rl/poca/poca_critic.h"
+#include "rl/poca/poca_critic_gradient.h"
+#include "rl/ppo/mlp_ppo_gradient.h"
 #include "rl/trainer/on_policy_trainer.h"
 
 namespace rlt {
@@ -53,7 +59,12 @@ class PocaTrainer : public OnPolicyTrainer {
   int64_t packed_others(const std::vector<float>& present, int64_t n) const;
   double shape_hidden() const;  // the critic's width
 
+  // the loss's weights: policy + 0.5 (value + 0.5 baseline) - beta entropy
+  static constexpr float kValueCoef = 0.5f, kBaselineCoef = 0.25f;
+
   PocaCritic critic_;
+  std::unique_ptr<MlpPpoGradient> actor_gradient_;        // the actor's loss and gradient
+  std::unique_ptr<PocaCriticGradient> critic_gradient_;   // the critic's
   int others_ = 0;       // member slots besides the agent's own: agent_slots - 1
   int action_code_ = 0;  // encoded action size
 };

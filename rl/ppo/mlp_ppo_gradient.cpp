@@ -3,52 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rl/core/eigen_layers.h"
 #include "rl/core/matrix_product.h"
+#include "rl/ppo/ppo_loss.h"
 
 namespace rlt {
 
 namespace {
-
-using ConstMap = Eigen::Map<const RowMatrix>;
-using Map = Eigen::Map<RowMatrix>;
-using ConstRowMap = Eigen::Map<const Eigen::RowVectorXf>;
-using RowMap = Eigen::Map<Eigen::RowVectorXf>;
-
-ConstMap weight_of(const torch::Tensor& w) { return ConstMap(w.data_ptr<float>(), w.size(0), w.size(1)); }
-ConstRowMap bias_of(const torch::Tensor& b) { return ConstRowMap(b.data_ptr<float>(), b.size(0)); }
-Map weight_grad(const torch::Tensor& w) {
-  return Map(w.grad().data_ptr<float>(), w.size(0), w.size(1));
-}
-RowMap bias_grad(const torch::Tensor& b) { return RowMap(b.grad().data_ptr<float>(), b.size(0)); }
-
-void activate(Activation a, const RowMatrix& z, RowMatrix& y) {
-  switch (a) {
-    case Activation::kTanh:
-      y = z.array().tanh();
-      return;
-    case Activation::kRelu:
-      y = z.cwiseMax(0.f);
-      return;
-    case Activation::kSwish:
-      y = z.array() / (1.f + (-z.array()).exp());
-      return;
-  }
-}
-
-// dy * f'(z) with y = f(z)
-RowMatrix activation_backward(Activation a, const RowMatrix& z, const RowMatrix& y,
-                              const RowMatrix& dy) {
-  switch (a) {
-    case Activation::kTanh:
-      return dy.array() * (1.f - y.array().square());
-    case Activation::kRelu:
-      return dy.array() * (z.array() > 0.f).cast<float>();
-    case Activation::kSwish:
-      break;
-  }
-  RowMatrix s = (1.f + (-z.array()).exp()).inverse();
-  return dy.array() * s.array() * (1.f + z.array() * (1.f - s.array()));
-}
 
 // gradient share of the first argument of min/max(a, b): 1 when it alone is chosen, 1/2 on a tie
 inline double share(bool chosen, bool tie) { return tie ? 0.5 : (chosen ? 1.0 : 0.0); }
@@ -62,8 +23,8 @@ void MlpPpoGradient::body_forward(const std::vector<DenseLayer>& body, const Row
   for (size_t l = 0; l < body.size(); ++l) {
     const RowMatrix& in = l == 0 ? x : y[l - 1];
     z[l].resize(in.rows(), body[l].weight.size(1));
-    multiply(in, Transpose::kNo, weight_of(body[l].weight), Transpose::kNo, z[l]);
-    z[l].rowwise() += bias_of(body[l].bias);
+    multiply(in, Transpose::kNo, matrix_of(body[l].weight), Transpose::kNo, z[l]);
+    z[l].rowwise() += row_of(body[l].bias);
     activate(net_.shape().activation, z[l], y[l]);
   }
 }
@@ -74,12 +35,12 @@ void MlpPpoGradient::body_backward(const std::vector<DenseLayer>& body, const Ro
   for (size_t l = body.size(); l-- > 0;) {
     RowMatrix dz = activation_backward(net_.shape().activation, z[l], y[l], dy);
     const RowMatrix& in = l == 0 ? x : y[l - 1];
-    Map weight_gradient = weight_grad(body[l].weight);
+    MatrixMap weight_gradient = matrix_grad(body[l].weight);
     multiply(in, Transpose::kYes, dz, Transpose::kNo, weight_gradient);
-    bias_grad(body[l].bias) = dz.colwise().sum();
+    row_grad(body[l].bias) = dz.colwise().sum();
     if (l > 0) {
       dy.resize(dz.rows(), in.cols());
-      multiply(dz, Transpose::kNo, weight_of(body[l].weight), Transpose::kYes, dy);
+      multiply(dz, Transpose::kNo, matrix_of(body[l].weight), Transpose::kYes, dy);
     }
   }
 }
@@ -90,14 +51,16 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   const auto& spec = shape.action;
   const int64_t B = mb.rows;
   const int C = spec.continuous_size, K = spec.num_branches(), M = spec.mask_size();
-  const RowMatrix x = ConstMap(mb.obs, B, shape.obs_size);
-  const ConstMap old(mb.old, B, 4);  // old log-prob, advantage, old value, return
+  const RowMatrix x = ConstMatrixMap(mb.obs, B, shape.obs_size);
+  const ConstMatrixMap old(mb.old, B, 4);  // old log-prob, advantage, old value, return
 
   // forward: bodies
   body_forward(net_.actor_body, x, actor_z_, actor_y_);
   const RowMatrix& actor_h = actor_y_.back();
-  if (!shape.shared_critic) body_forward(net_.critic_body, x, critic_z_, critic_y_);
-  const RowMatrix& critic_h = shape.shared_critic ? actor_h : critic_y_.back();
+  // without a critic (MA-POCA's actor) only the policy and entropy terms
+  const bool critic = shape.with_critic;
+  if (critic && !shape.shared_critic) body_forward(net_.critic_body, x, critic_z_, critic_y_);
+  const RowMatrix& critic_h = shape.shared_critic || !critic ? actor_h : critic_y_.back();
 
   Eigen::VectorXd log_prob = Eigen::VectorXd::Zero(B), entropy = Eigen::VectorXd::Zero(B);
   // forward: continuous part
@@ -105,11 +68,11 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   Eigen::RowVectorXf log_std, std_dev;
   if (C > 0) {
     RowMatrix mean(B, C);
-    multiply(actor_h, Transpose::kNo, weight_of(net_.mean_head.weight), Transpose::kNo, mean);
-    mean.rowwise() += bias_of(net_.mean_head.bias);
-    log_std = bias_of(net_.log_std);
+    multiply(actor_h, Transpose::kNo, matrix_of(net_.mean_head.weight), Transpose::kNo, mean);
+    mean.rowwise() += row_of(net_.mean_head.bias);
+    log_std = row_of(net_.log_std);
     std_dev = log_std.array().exp();
-    zc = (ConstMap(mb.continuous, B, C) - mean).array().rowwise() / std_dev.array();
+    zc = (ConstMatrixMap(mb.continuous, B, C) - mean).array().rowwise() / std_dev.array();
     const double half_log_2pi = 0.5 * std::log(2.0 * M_PI);
     const double row_entropy = C * (0.5 + half_log_2pi) + log_std.cast<double>().sum();
     for (int64_t i = 0; i < B; ++i) {
@@ -123,8 +86,8 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   RowMatrix branch_entropy;    // [B, K]
   if (K > 0) {
     RowMatrix logits(B, M);
-    multiply(actor_h, Transpose::kNo, weight_of(net_.logits_head.weight), Transpose::kNo, logits);
-    logits.rowwise() += bias_of(net_.logits_head.bias);
+    multiply(actor_h, Transpose::kNo, matrix_of(net_.logits_head.weight), Transpose::kNo, logits);
+    logits.rowwise() += row_of(net_.logits_head.bias);
     probs.setZero(B, M);
     log_probs.setZero(B, M);
     branch_entropy.setZero(B, K);
@@ -156,8 +119,11 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
     }
   }
   // forward: value
-  Eigen::VectorXf value = (critic_h * weight_of(net_.value_head.weight)).col(0);
-  value.array() += net_.value_head.bias.data_ptr<float>()[0];
+  Eigen::VectorXf value = Eigen::VectorXf::Zero(B);
+  if (critic) {
+    value = (critic_h * matrix_of(net_.value_head.weight)).col(0);
+    value.array() += net_.value_head.bias.data_ptr<float>()[0];
+  }
 
   // loss and its gradient with respect to log-probabilities and values
   LossValues out;
@@ -176,15 +142,10 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
                          share(s2 < s1, s1 == s2) * (in_range ? ratio * adv : 0.0);
     g[i] = float(-d_min / B);
 
-    const double ret = old(i, 3), old_v = old(i, 2), v = value[i];
-    const double delta = std::clamp(v - old_v, -double(epsilon), double(epsilon));
-    const double v_clipped = old_v + delta;
-    const double l1 = (ret - v) * (ret - v), l2 = (ret - v_clipped) * (ret - v_clipped);
-    out.value += std::max(l1, l2) / B;
-    const bool delta_in_range = v - old_v >= -epsilon && v - old_v <= epsilon;
-    const double d_max = share(l1 > l2, l1 == l2) * -2 * (ret - v) +
-                         share(l2 > l1, l1 == l2) * (delta_in_range ? -2 * (ret - v_clipped) : 0.0);
-    dv[i] = float(value_loss_coef * d_max / B);
+    if (!critic) continue;
+    const ClippedValueTerm v = clipped_value_term(value[i], old(i, 2), old(i, 3), epsilon);
+    out.value += v.loss / B;
+    dv[i] = float(value_loss_coef * v.gradient / B);
   }
   out.entropy = entropy.mean();
   out.total = out.policy + value_loss_coef * out.value - beta * out.entropy;
@@ -197,10 +158,10 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
   if (C > 0) {
     RowMatrix d_mean = zc.array().rowwise() / std_dev.array();
     d_mean.array().colwise() *= g.array();
-    Map mean_weight_gradient = weight_grad(net_.mean_head.weight);
+    MatrixMap mean_weight_gradient = matrix_grad(net_.mean_head.weight);
     multiply(actor_h, Transpose::kYes, d_mean, Transpose::kNo, mean_weight_gradient);
-    bias_grad(net_.mean_head.bias) = d_mean.colwise().sum();
-    multiply(d_mean, Transpose::kNo, weight_of(net_.mean_head.weight), Transpose::kYes, d_actor_h,
+    row_grad(net_.mean_head.bias) = d_mean.colwise().sum();
+    multiply(d_mean, Transpose::kNo, matrix_of(net_.mean_head.weight), Transpose::kYes, d_actor_h,
              /*accumulate=*/true);
     RowMatrix z2_minus_1 = zc.array().square() - 1.f;
     RowMap log_std_grad(net_.log_std.grad().data_ptr<float>(), C);
@@ -222,15 +183,19 @@ LossValues MlpPpoGradient::compute(const MinibatchView& mb, float epsilon, float
         offset += n;
       }
     }
-    Map logits_weight_gradient = weight_grad(net_.logits_head.weight);
+    MatrixMap logits_weight_gradient = matrix_grad(net_.logits_head.weight);
     multiply(actor_h, Transpose::kYes, d_logits, Transpose::kNo, logits_weight_gradient);
-    bias_grad(net_.logits_head.bias) = d_logits.colwise().sum();
-    multiply(d_logits, Transpose::kNo, weight_of(net_.logits_head.weight), Transpose::kYes,
+    row_grad(net_.logits_head.bias) = d_logits.colwise().sum();
+    multiply(d_logits, Transpose::kNo, matrix_of(net_.logits_head.weight), Transpose::kYes,
              d_actor_h, /*accumulate=*/true);
   }
-  weight_grad(net_.value_head.weight).col(0).noalias() = critic_h.transpose() * dv;
+  if (!critic) {
+    body_backward(net_.actor_body, x, actor_z_, actor_y_, std::move(d_actor_h));
+    return out;
+  }
+  matrix_grad(net_.value_head.weight).col(0).noalias() = critic_h.transpose() * dv;
   net_.value_head.bias.grad().data_ptr<float>()[0] = dv.sum();
-  RowMatrix d_critic_h = dv * weight_of(net_.value_head.weight).transpose();
+  RowMatrix d_critic_h = dv * matrix_of(net_.value_head.weight).transpose();
 
   // backward: bodies
   if (shape.shared_critic) {

@@ -9,6 +9,9 @@
 // calls of a few microseconds each; measured on CartPole's 64-64 actor and critic, the autograd step
 // took about 480 us per 128-sample minibatch and the updates were over 90% of training time.
 //
+// A network without a critic (NetworkShape::with_critic false: MA-POCA's actor) gets the policy
+// and entropy terms only, and its value loss is 0.
+//
 // Backward pass, per row i with g_i = d total / d log_prob_i:
 //   continuous:  d/d mean_ij = g_i z_ij / s_j,  d/d log_std_j = sum_i g_i (z_ij^2 - 1) - beta
 //   discrete:    d/d logit_ik = g_i (1[k = a_i] - p_ik) + (beta_d / B) p_ik (log p_ik + H_i)

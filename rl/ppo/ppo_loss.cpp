@@ -1,11 +1,27 @@
 #include "rl/ppo/ppo_loss.h"
 
+#include <algorithm>
+
 namespace rlt {
 
 torch::Tensor clipped_value_loss(const torch::Tensor& values, const torch::Tensor& old_values,
                                  const torch::Tensor& returns, float epsilon) {
   auto values_clipped = old_values + torch::clamp(values - old_values, -epsilon, epsilon);
   return torch::max(torch::square(returns - values), torch::square(returns - values_clipped)).mean();
+}
+
+ClippedValueTerm clipped_value_term(double value, double old_value, double ret, float epsilon) {
+  const double delta = std::clamp(value - old_value, -double(epsilon), double(epsilon));
+  const double clipped = old_value + delta;
+  const double l1 = (ret - value) * (ret - value), l2 = (ret - clipped) * (ret - clipped);
+  const bool tie = l1 == l2;
+  const bool delta_in_range = value - old_value >= -epsilon && value - old_value <= epsilon;
+  const double share1 = tie ? 0.5 : (l1 > l2 ? 1.0 : 0.0), share2 = tie ? 0.5 : 1.0 - share1;
+  ClippedValueTerm out;
+  out.loss = std::max(l1, l2);
+  out.gradient = share1 * -2 * (ret - value) +
+                 share2 * (delta_in_range ? -2 * (ret - clipped) : 0.0);
+  return out;
 }
 
 PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_prob,

@@ -27,6 +27,15 @@ struct PpoLoss {
 torch::Tensor clipped_value_loss(const torch::Tensor& values, const torch::Tensor& old_values,
                                  const torch::Tensor& returns, float epsilon);
 
+// one row's term of clipped_value_loss, max((R - V)^2, (R - V_clip)^2), and its derivative with
+// respect to V (ties of the max and the clamp's edges follow LibTorch: half the gradient each
+// on a tie, the clamp passing the gradient at its edges); for the hand-written gradients
+struct ClippedValueTerm {
+  double loss = 0;
+  double gradient = 0;  // d loss / d V
+};
+ClippedValueTerm clipped_value_term(double value, double old_value, double ret, float epsilon);
+
 // every tensor argument is [B]; entropy is the whole action's, discrete_entropy its discrete
 // branches' part (undefined when there are none)
 PpoLoss ppo_loss(const torch::Tensor& log_prob, const torch::Tensor& old_log_prob,

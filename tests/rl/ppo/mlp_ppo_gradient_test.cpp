@@ -1,7 +1,7 @@
 // The hand-written PPO gradient equals autograd through PolicyNetwork, evaluate_actions() and
 // ppo_loss() (the reference), for every kind of action space, activation and critic layout, with
 // the ratio and value clips active on both sides, with one entropy bonus or the discrete branches'
-// own.
+// own, and for the actor alone (MA-POCA's).
 #include "rl/ppo/mlp_ppo_gradient.h"
 
 #include <gtest/gtest.h>
@@ -22,6 +22,7 @@ struct GradientCase {
   float discrete_beta = 0.01f;  // the branches' entropy bonus (beta is 0.01)
   int obs_size = 6, hidden_units = 16;
   int64_t rows = 37;
+  bool with_critic = true;  // false: the actor alone (MA-POCA's)
 };
 
 class MlpPpoGradientTest : public ::testing::TestWithParam<GradientCase> {};
@@ -37,6 +38,7 @@ TEST_P(MlpPpoGradientTest, EqualsAutograd) {
   shape.num_layers = 2;
   shape.activation = c.activation;
   shape.shared_critic = c.shared_critic;
+  shape.with_critic = c.with_critic;
   PolicyNetwork net(shape);
   {
     // larger head weights and log-stds away from 0, so that every term matters
@@ -79,12 +81,13 @@ TEST_P(MlpPpoGradientTest, EqualsAutograd) {
     torch::NoGradGuard g;
     auto out = net->actor(obs);
     log_prob = evaluate_actions(shape.action, out.mean, net->log_std, out.logits, mask, cont, disc).log_prob;
-    value = net->value(obs, out.hidden);
+    value = c.with_critic ? net->value(obs, out.hidden) : torch::zeros({B});
   }
   auto old_log_prob = log_prob + torch::randn({B}) * 0.3;
   auto advantages = torch::randn({B});
-  auto old_value = value + torch::randn({B}) * 0.4;
-  auto returns = value + torch::randn({B});
+  // without a critic the value terms are 0 (the reference's values are constants)
+  auto old_value = c.with_critic ? value + torch::randn({B}) * 0.4 : value;
+  auto returns = c.with_critic ? value + torch::randn({B}) : value;
   const float epsilon = 0.2f, beta = 0.01f, value_coef = 0.5f;
   const auto ratio = torch::exp(log_prob - old_log_prob);
   ASSERT_GT((ratio > 1 + epsilon).sum().item<int>(), 0);
@@ -94,7 +97,7 @@ TEST_P(MlpPpoGradientTest, EqualsAutograd) {
   for (auto& p : net->parameters()) p.mutable_grad() = torch::zeros_like(p);
   auto out = net->actor(obs);
   auto lp = evaluate_actions(shape.action, out.mean, net->log_std, out.logits, mask, cont, disc);
-  auto v = net->value(obs, out.hidden);
+  auto v = c.with_critic ? net->value(obs, out.hidden) : value;
   PpoLoss ref = ppo_loss(lp.log_prob, old_log_prob, advantages, v, old_value, returns, lp.entropy,
                          lp.discrete_entropy, epsilon, beta, c.discrete_beta, value_coef);
   ref.total.backward();
@@ -144,6 +147,9 @@ INSTANTIATE_TEST_SUITE_P(
                       // the branches' own entropy bonus, larger and switched off
                       GradientCase{2, {3, 2}, Activation::kTanh, false, true, 0.2f},
                       GradientCase{0, {4, 3}, Activation::kRelu, true, true, 0.f},
+                      // the actor alone, as MA-POCA trains it
+                      GradientCase{2, {3, 2}, Activation::kSwish, false, true, 0.01f, 6, 16, 37,
+                                   false},
                       // bodies large enough for the BLAS path of multiply() (see the test below)
                       GradientCase{2, {3, 2}, Activation::kTanh, false, true, 0.05f, 160, 160,
                                    200}));
