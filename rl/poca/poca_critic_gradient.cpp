@@ -52,16 +52,21 @@ CriticLossValues PocaCriticGradient::compute(const CriticMinibatchView& mb, floa
     linear_forward(*critic_.obs_action_embedding_, action_in_, action_z_);
     activate(shape.activation, action_z_, action_y_);
   }
-  // the values' entities (rows 0..B-1), then the baselines' (rows B..2B-1)
-  entities_.resize(R * N, H);
+  // the distinct entities: the own embeddings [B], the others' observation embeddings [B U],
+  // their (observation, action) embeddings [B U]; the values' rows 0..B-1 have the own and the
+  // others' observation embeddings as members, the baselines' rows B..2B-1 the own and the
+  // (observation, action) embeddings
+  units_.resize(B + 2 * B * U, H);
+  units_.topRows(B + B * U) = obs_y_;
+  if (U > 0) units_.bottomRows(B * U) = action_y_;
+  unit_of_.resize(R * N);
   present_.resize(R, N);
   for (int64_t b = 0; b < B; ++b) {
-    entities_.row(b * N) = obs_y_.row(b);
-    entities_.row((B + b) * N) = obs_y_.row(b);
+    unit_of_[b * N] = unit_of_[(B + b) * N] = b;
     present_(b, 0) = present_(B + b, 0) = 1.f;
     for (int64_t u = 0; u < U; ++u) {
-      entities_.row(b * N + 1 + u) = obs_y_.row(B + b * U + u);
-      entities_.row((B + b) * N + 1 + u) = action_y_.row(b * U + u);
+      unit_of_[b * N + 1 + u] = B + b * U + u;
+      unit_of_[(B + b) * N + 1 + u] = B + B * U + b * U + u;
       present_(b, 1 + u) = present_(B + b, 1 + u) = mb.others_present[b * U + u];
     }
   }
@@ -81,20 +86,14 @@ CriticLossValues PocaCriticGradient::compute(const CriticMinibatchView& mb, floa
   }
   head_backward(R, N, d_out);
 
-  // backward: embeddings (the own embedding gets the value's and the baseline's share)
-  RowMatrix d_obs_y(B + B * U, H), d_action_y(B * U, H);
-  for (int64_t b = 0; b < B; ++b) {
-    d_obs_y.row(b) = d_entities_.row(b * N) + d_entities_.row((B + b) * N);
-    for (int64_t u = 0; u < U; ++u) {
-      d_obs_y.row(B + b * U + u) = d_entities_.row(b * N + 1 + u);
-      d_action_y.row(b * U + u) = d_entities_.row((B + b) * N + 1 + u);
-    }
-  }
+  // backward: embeddings (the own embedding got the value's and the baseline's share)
+  const RowMatrix d_obs_y = d_units_.topRows(B + B * U);
   linear_backward(*critic_.obs_embedding_, obs_in_,
                   activation_backward(shape.activation, obs_z_, obs_y_, d_obs_y));
   if (U > 0) {
     linear_backward(*critic_.obs_action_embedding_, action_in_,
-                    activation_backward(shape.activation, action_z_, action_y_, d_action_y));
+                    activation_backward(shape.activation, action_z_, action_y_,
+                                        RowMatrix(d_units_.bottomRows(B * U))));
   } else {
     critic_.obs_action_embedding_->weight.grad().zero_();
     critic_.obs_action_embedding_->bias.grad().zero_();
@@ -109,19 +108,20 @@ Eigen::VectorXf PocaCriticGradient::head_forward(int64_t rows, int64_t members) 
   const float scale = float(1.0 / std::sqrt(double(d)));
 
   // multi-head attention over the entities, absent keys masked out
-  linear_forward(*critic_.query_, entities_, q_);
-  linear_forward(*critic_.key_, entities_, k_);
-  linear_forward(*critic_.value_, entities_, v_);
+  // projections of the distinct entities; member i of row r is unit_of_[r N + i]
+  linear_forward(*critic_.query_, units_, q_);
+  linear_forward(*critic_.key_, units_, k_);
+  linear_forward(*critic_.value_, units_, v_);
   attention_.resize(R * heads * N, N);
   attended_.setZero(R * N, H);
   for (int64_t r = 0; r < R; ++r) {
     for (int64_t h = 0; h < heads; ++h) {
       for (int64_t i = 0; i < N; ++i) {
-        const ConstSegment q(q_.row(r * N + i).data() + h * d, d);
+        const ConstSegment q(q_.row(unit_of_[r * N + i]).data() + h * d, d);
         float* a = attention_.row((r * heads + h) * N + i).data();  // [N] weights of row i
         float top = -INFINITY;
         for (int64_t j = 0; j < N; ++j) {
-          const ConstSegment k(k_.row(r * N + j).data() + h * d, d);
+          const ConstSegment k(k_.row(unit_of_[r * N + j]).data() + h * d, d);
           a[j] = present_(r, j) < 0.5f ? -1e9f : q.dot(k) * scale;
           top = std::max(top, a[j]);
         }
@@ -130,7 +130,7 @@ Eigen::VectorXf PocaCriticGradient::head_forward(int64_t rows, int64_t members) 
         Segment o(attended_.row(r * N + i).data() + h * d, d);
         for (int64_t j = 0; j < N; ++j) {
           a[j] /= total;
-          o += a[j] * ConstSegment(v_.row(r * N + j).data() + h * d, d);
+          o += a[j] * ConstSegment(v_.row(unit_of_[r * N + j]).data() + h * d, d);
         }
       }
     }
@@ -138,7 +138,7 @@ Eigen::VectorXf PocaCriticGradient::head_forward(int64_t rows, int64_t members) 
   // residual, then layer norm
   RowMatrix sum;
   linear_forward(*critic_.out_, attended_, sum);
-  sum += entities_;
+  for (int64_t row = 0; row < R * N; ++row) sum.row(row) += units_.row(unit_of_[row]);
   const float eps = float(critic_.norm_->options.eps());
   normed_.resize(R * N, H);
   inverse_sigma_.resize(R * N);
@@ -201,20 +201,23 @@ void PocaCriticGradient::head_backward(int64_t rows, int64_t members,
   row_grad(critic_.norm_->weight) = (dx.array() * normed_.array()).colwise().sum();
   row_grad(critic_.norm_->bias) = dx.colwise().sum();
   const RowMatrix d_normed = dx.array().rowwise() * row_of(critic_.norm_->weight).array();
-  d_entities_.resize(R * N, H);
+  RowMatrix d_sum(R * N, H);  // d loss / d (entities + out projection)
   for (int64_t row = 0; row < R * N; ++row) {
     const float mean_d = d_normed.row(row).mean();
     const float mean_dx = d_normed.row(row).dot(normed_.row(row)) / float(H);
-    d_entities_.row(row) =
+    d_sum.row(row) =
         inverse_sigma_[row] *
         (d_normed.row(row).array() - mean_d - normed_.row(row).array() * mean_dx).matrix();
   }
-  // the residual passes d_entities_ as it is; the out projection
+  // the out projection, and the residual: each distinct entity gets its members' shares
   RowMatrix d_attended(R * N, H);
-  linear_backward(*critic_.out_, attended_, d_entities_, &d_attended);
+  linear_backward(*critic_.out_, attended_, d_sum, &d_attended);
+  d_units_.setZero(units_.rows(), H);
+  for (int64_t row = 0; row < R * N; ++row) d_units_.row(unit_of_[row]) += d_sum.row(row);
   // attention
-  RowMatrix dq = RowMatrix::Zero(R * N, H), dk = RowMatrix::Zero(R * N, H),
-            dv = RowMatrix::Zero(R * N, H);
+  const int64_t units = units_.rows();
+  RowMatrix dq = RowMatrix::Zero(units, H), dk = RowMatrix::Zero(units, H),
+            dv = RowMatrix::Zero(units, H);
   std::vector<float> da(N);
   for (int64_t r = 0; r < R; ++r) {
     for (int64_t h = 0; h < heads; ++h) {
@@ -223,24 +226,26 @@ void PocaCriticGradient::head_backward(int64_t rows, int64_t members,
         const ConstSegment d_o(d_attended.row(r * N + i).data() + h * d, d);
         float weighted = 0.f;
         for (int64_t j = 0; j < N; ++j) {
-          da[j] = d_o.dot(ConstSegment(v_.row(r * N + j).data() + h * d, d));
+          da[j] = d_o.dot(ConstSegment(v_.row(unit_of_[r * N + j]).data() + h * d, d));
           weighted += a[j] * da[j];
         }
-        Segment d_q(dq.row(r * N + i).data() + h * d, d);
-        const ConstSegment q(q_.row(r * N + i).data() + h * d, d);
+        const int64_t unit_i = unit_of_[r * N + i];
+        Segment d_q(dq.row(unit_i).data() + h * d, d);
+        const ConstSegment q(q_.row(unit_i).data() + h * d, d);
         for (int64_t j = 0; j < N; ++j) {
           if (a[j] == 0.f) continue;
           const float ds = a[j] * (da[j] - weighted) * scale;
-          Segment(dv.row(r * N + j).data() + h * d, d) += a[j] * d_o;
-          d_q += ds * ConstSegment(k_.row(r * N + j).data() + h * d, d);
-          Segment(dk.row(r * N + j).data() + h * d, d) += ds * q;
+          const int64_t unit_j = unit_of_[r * N + j];
+          Segment(dv.row(unit_j).data() + h * d, d) += a[j] * d_o;
+          d_q += ds * ConstSegment(k_.row(unit_j).data() + h * d, d);
+          Segment(dk.row(unit_j).data() + h * d, d) += ds * q;
         }
       }
     }
   }
-  linear_backward(*critic_.query_, entities_, dq, &d_entities_, /*accumulate=*/true);
-  linear_backward(*critic_.key_, entities_, dk, &d_entities_, /*accumulate=*/true);
-  linear_backward(*critic_.value_, entities_, dv, &d_entities_, /*accumulate=*/true);
+  linear_backward(*critic_.query_, units_, dq, &d_units_, /*accumulate=*/true);
+  linear_backward(*critic_.key_, units_, dk, &d_units_, /*accumulate=*/true);
+  linear_backward(*critic_.value_, units_, dv, &d_units_, /*accumulate=*/true);
 }
 
 }  // namespace rlt

@@ -9,7 +9,9 @@
 // - The own observation's embedding is the same in the value (first entity) and in the baseline
 //   (first entity): computed once, its gradient the sum of both.
 // - The value's and the baseline's entities go through the shared attention, norm, MLP and head
-//   as one batch of 2B rows, so each layer is one product of twice the rows.
+//   as one batch of 2B rows, so each layer is one product of twice the rows; the query, key and
+//   value projections run once per distinct entity (B + 2BU of the 2B(1 + U) members: the own
+//   entity is in both rows), the rest per member.
 //
 // Backward through the head, per row r of the 2B (N entities, present mask P, n_r = max(1, sum P)):
 //   pooled:     dX_ri = P_ri / n_r * d pooled_r
@@ -54,24 +56,26 @@ class PocaCriticGradient {
                            float baseline_coef);
 
  private:
-  // the forward pass of head() over entities_ [R * N, H] with present_ [R, N]; keeps what the
-  // backward pass needs and returns the R outputs
+  // the forward pass of head() over R rows of N members, member i of row r being the distinct
+  // entity units_[unit_of_[r N + i]], with present_ [R, N]; keeps what the backward pass needs
+  // and returns the R outputs
   Eigen::VectorXf head_forward(int64_t rows, int64_t members);
   // given d loss / d output [R], writes the head's parameter gradients and leaves
-  // d loss / d entities in d_entities_ [R * N, H]
+  // d loss / d (distinct entities) in d_units_
   void head_backward(int64_t rows, int64_t members, const Eigen::VectorXf& d_out);
 
   PocaCriticImpl& critic_;
   // scratch, kept between minibatches (R = 2B rows: the values', then the baselines')
-  RowMatrix obs_in_, obs_z_, obs_y_;            // [B + B U, D], [B + B U, H] x 2: own, then others
-  RowMatrix action_in_, action_z_, action_y_;   // [B U, D + A], [B U, H] x 2
-  RowMatrix entities_, present_;                // [R N, H], [R, N]
+  RowMatrix obs_in_, obs_z_, obs_y_;           // [B + B U, D], [B + B U, H] x 2: own, then others
+  RowMatrix action_in_, action_z_, action_y_;  // [B U, D + A], [B U, H] x 2
+  RowMatrix units_, present_;     // [B + 2 B U, H] distinct entities (see compute()), [R, N]
+  std::vector<int64_t> unit_of_;  // [R N] the distinct entity of each member of each row
   RowMatrix q_, k_, v_, attention_, attended_;  // [R N, H] x 3, [R heads N, N], [R N, H]
   RowMatrix normed_, x_;                        // [R N, H]: the norm's standardized input, output
   Eigen::VectorXf inverse_sigma_;               // [R N]
   RowMatrix pooled_;                            // [R, H]
   std::vector<RowMatrix> mlp_z_, mlp_y_;        // [R, H] per layer
-  RowMatrix d_entities_;                        // [R N, H]
+  RowMatrix d_units_;                           // [B + 2 B U, H]
 };
 
 }  // namespace rlt

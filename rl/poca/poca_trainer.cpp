@@ -250,14 +250,17 @@ UpdateStats PocaTrainer::update() {
   stats.clip_fraction = float(sums[5] / count);
   {
     // critic (as PocaCriticGradient computes it): the observation embedding of the own and U
-    // others' observations, the (observation, action) embedding of the U others, then the value's
-    // and the baseline's 1 + U members each through 4 attention projections, the MLP and the head
+    // others' observations, the (observation, action) embedding of the U others, the query, key
+    // and value projections of these 1 + 2U entities, then for the value's and the baseline's
+    // 1 + U members each the out projection, and the MLP and the head for both
     const double d = obs_size_, h = shape_hidden(), a = action_code_, u = double(used);
     const int layers = config_.network_settings.num_layers;
     const double tail = layers * h * h + h;
     const double embeddings = (1 + u) * d * h + u * (d + a) * h;
-    const double critic = embeddings + 2 * ((1 + u) * 4 * h * h + tail);
-    stats.matmul_flops = 6.0 * (actor_macs() + critic) * double(batches * bs) * hp.num_epoch;
+    const double critic = embeddings + 3 * (1 + 2 * u) * h * h + 2 * ((1 + u) * h * h + tail);
+    stats.matmul_flops =
+        matmul_flops_per_experience(actor_macs() + critic, actor_input_macs() + embeddings) *
+        double(batches * bs) * hp.num_epoch;
   }
   buffer_.clear();
   ++updates_;

@@ -108,7 +108,9 @@ UpdateStats PpoTrainer::update() {
   stats.entropy = float(sum_entropy / count);
   stats.approx_kl = float(sum_kl / count);
   stats.clip_fraction = float(sum_clipped / count);
-  stats.matmul_flops = 6.0 * (actor_macs() + ppo_critic_macs()) * double(batches * bs) * hp.num_epoch;
+  const double input_macs = actor_input_macs() * (hp.shared_critic ? 1 : 2);  // both bodies
+  stats.matmul_flops = matmul_flops_per_experience(actor_macs() + ppo_critic_macs(), input_macs) *
+                       double(batches * bs) * hp.num_epoch;
   buffer_.clear();
   ++updates_;
   actor_stale_ = true;

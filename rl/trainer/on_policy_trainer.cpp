@@ -233,6 +233,10 @@ double OnPolicyTrainer::actor_macs() const {
   return d * h + (layers - 1) * h * h + h * heads;
 }
 
+double OnPolicyTrainer::actor_input_macs() const {
+  return double(obs_size_) * config_.network_settings.hidden_units;
+}
+
 double OnPolicyTrainer::ppo_critic_macs() const {
   const double d = obs_size_, h = config_.network_settings.hidden_units;
   const int layers = config_.network_settings.num_layers;

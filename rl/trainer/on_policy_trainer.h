@@ -35,7 +35,7 @@ struct UpdateStats {
   float approx_kl = 0, clip_fraction = 0;
   int64_t experiences = 0;
   // floating-point operations of the update's matrix products (forward and backward, counted
-  // from the layer shapes: 2 per multiply-add, backward twice the forward), for throughput reports
+  // from the layer shapes, see matmul_flops_per_experience()), for throughput reports
   double matmul_flops = 0;
 };
 
@@ -127,6 +127,14 @@ class OnPolicyTrainer {
   // multiply-adds of one forward pass of the actor and of PPO's critic, per experience
   double actor_macs() const;
   double ppo_critic_macs() const;
+  // multiply-adds of the actor's first layer (observations to hidden units), per experience
+  double actor_input_macs() const;
+  // the products' floating-point operations of one experience's forward and backward pass: 2 per
+  // multiply-add forward, twice that backward (the weights' and the input's gradients), except
+  // that layers reading the observations (input_macs of the macs) need no input gradient
+  static double matmul_flops_per_experience(double macs, double input_macs) {
+    return 6.0 * macs - 2.0 * input_macs;
+  }
 
   // concatenated observations of `rows`: [rows, obs_size]; NaN and infinity are errors naming `what`
   void gather_obs(const BehaviorBuffers& buf, const std::vector<int>& rows, RowMatrix& out,

@@ -99,8 +99,9 @@ TEST_P(PocaCriticGradientTest, EqualsAutograd) {
     auto starts = [&](const char* prefix) { return names[i].rfind(prefix, 0) == 0; };
     const bool unused =
         U == 0 && (starts("obs_action_embedding") || starts("query") || starts("key"));
-    if (!unused)
+    if (!unused) {
       EXPECT_GT(expected[i].abs().sum().item<float>(), 0.f) << names[i] << " has no gradient";
+    }
   }
   // a second minibatch on the same object (scratch reused) gives the same result
   for (auto& p : critic->parameters()) p.mutable_grad().fill_(-5.f);
