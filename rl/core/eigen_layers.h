@@ -1,5 +1,6 @@
 // Eigen views of LibTorch parameters and the activations' forward and backward passes: the shared
-// pieces of the hand-written gradients (MlpPpoGradient, PocaCriticGradient).
+// pieces of the hand-written gradients (MlpPpoGradient, PocaCriticGradient) and, for the
+// activations, of the Eigen actor (FastActor).
 //
 // A parameter's view aliases the tensor's storage, and a gradient view aliases its .grad(), which
 // FlatAdam keeps as views into one flat buffer: writing through it is how the hand-written

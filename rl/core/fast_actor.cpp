@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "rl/core/eigen_layers.h"
 #include "rl/core/policy_network.h"
 
 namespace rlt {
@@ -61,19 +62,8 @@ RowMatrix FastActor::normalized(const RowMatrix& obs) const {
 
 RowMatrix FastActor::run_body(const std::vector<Layer>& body, RowMatrix x) const {
   for (const auto& l : body) {
-    RowMatrix y = (x * l.weight).rowwise() + l.bias;
-    switch (activation_) {
-      case Activation::kTanh:
-        y = y.array().tanh();
-        break;
-      case Activation::kRelu:
-        y = y.cwiseMax(0.f);
-        break;
-      case Activation::kSwish:
-        y = y.array() / (1.f + (-y.array()).exp());
-        break;
-    }
-    x = std::move(y);
+    const RowMatrix z = (x * l.weight).rowwise() + l.bias;
+    activate(activation_, z, x);
   }
   return x;
 }
