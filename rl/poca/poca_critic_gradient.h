@@ -68,15 +68,15 @@ class PocaCriticGradient {
   // scratch, kept between minibatches (R = 2B rows: the values', then the baselines')
   RowMatrix obs_in_, obs_z_, obs_y_;           // [B + B U, D], [B + B U, H] x 2: own, then others
   RowMatrix action_in_, action_z_, action_y_;  // [B U, D + A], [B U, H] x 2
-  RowMatrix units_, present_;     // [B + 2 B U, H] distinct entities (see compute()), [R, N]
-  std::vector<int64_t> unit_of_;  // [R N] the distinct entity of each member of each row
-  RowMatrix q_, k_, v_;  // [B + 2 B U, H] each: the distinct entities' projections
+  RowMatrix units_, present_;       // [B + 2 B U, H] distinct entities (see compute()), [R, N]
+  std::vector<int64_t> unit_of_;    // [R N] the distinct entity of each member of each row
+  RowMatrix q_, k_, v_;             // [B + 2 B U, H] each: the distinct entities' projections
   RowMatrix attention_, attended_;  // [R heads N, N] weights, [R N, H] attended values
-  RowMatrix normed_, x_;                        // [R N, H]: the norm's standardized input, output
-  Eigen::VectorXf inverse_sigma_;               // [R N]
-  RowMatrix pooled_;                            // [R, H]
-  std::vector<RowMatrix> mlp_z_, mlp_y_;        // [R, H] per layer
-  RowMatrix d_units_;                           // [B + 2 B U, H]
+  RowMatrix normed_, x_;            // [R N, H]: the norm's standardized input, output
+  Eigen::VectorXf inverse_sigma_;   // [R N]
+  RowMatrix pooled_;                // [R, H]
+  std::vector<RowMatrix> mlp_z_, mlp_y_;  // [R, H] per layer
+  RowMatrix d_units_;                     // [B + 2 B U, H]
 };
 
 }  // namespace rlt
